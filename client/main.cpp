@@ -1,0 +1,27 @@
+// `depath`: the command-line client and embedded engine.
+#include "commands.hpp"
+#include "depath/error.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+  CLI::App app{"depath: energy-minimizing paths on triangle meshes (DE-Path)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "depath 0.1.0");
+  depath::cli::add_solve_command(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const depath::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return e.code() == depath::ErrorCode::cancelled ? 130 : 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

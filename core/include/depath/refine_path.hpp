@@ -1,0 +1,61 @@
+// Local refinement of a surface path: the energy-descent that `--refine` and the
+// `descent` method run.
+#pragma once
+
+#include "depath/energy.hpp"
+#include "depath/surface_path.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+namespace depath {
+
+/// What one refinement sweep achieved (reported through RefineOptions::on_sweep).
+struct RefineSweep {
+  int sweep = 0;            ///< 1-based sweep just finished
+  double energy = 0.0;      ///< energy of the path after it
+  int64_t evaluations = 0;  ///< segment-energy evaluations so far
+};
+
+/// Summary of a refinement run.
+struct RefineReport {
+  int sweeps = 0;
+  int64_t evaluations = 0;  ///< segment-energy evaluations (the unit of work)
+  double initial_energy = 0.0;
+  double final_energy = 0.0;
+  int reroutes = 0;         ///< vertices the path was re-routed around
+  std::string stop_reason;  ///< "converged", "max_sweeps" or "cancelled"
+};
+
+struct RefineOptions {
+  /// Maximum sweeps (each: optimise the points along their edges, then simplify and
+  /// re-route at vertices).
+  int max_sweeps = 200;
+  /// Stop once a sweep lowers the energy by less than this fraction and changes no
+  /// vertex the path passes through.
+  double tolerance = 1e-10;
+  /// Newton iterations on the points' edge parameters per sweep.
+  int max_newton_iterations = 40;
+  /// Called after every sweep (on the calling thread).
+  std::function<void(const RefineSweep&)> on_sweep;
+};
+
+/// Lowers the energy of `path` by local moves: every interior point slides along its
+/// edge (Newton on all edge parameters at once, golden-section per point as a
+/// fallback), points that reach an edge end become vertices, redundant points are
+/// dropped, and at a vertex the path is re-routed through the fan of faces on the side
+/// where the surface angle is below pi (changing the edge sequence). Works for any
+/// Energy through segment_energy / turning_angle; every move is kept only if it lowers
+/// the energy.
+///
+/// Guarantees: energy.evaluate(result) <= energy.evaluate(path); the end points are
+/// unchanged; the result is a valid surface path (interior points on edges or at
+/// vertices, segment_faces[i] contains both ends of segment i). An empty or
+/// single-segment-free path is returned as is. `cancelled` (optional) is polled between
+/// steps; once true the best path so far is returned. Throws Error(invalid_argument) if
+/// `path` is not a valid surface path (a segment whose ends share no face).
+SurfacePath refine_path(const Energy& energy, const SurfacePath& path, const RefineOptions& options = {},
+                        const std::function<bool()>& cancelled = {}, RefineReport* report = nullptr);
+
+}  // namespace depath

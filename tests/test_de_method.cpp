@@ -1,0 +1,251 @@
+// Method `de` end to end through solve(): reproducibility across thread counts,
+// convergence, never worse than `fmm` when seeded, progress reports, stop rules.
+#include "depath/error.hpp"
+#include "depath/mesh_io.hpp"
+#include "depath/solve.hpp"
+#include "depath/surface_generators.hpp"
+
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace depath {
+namespace {
+
+// A path is usable only if it runs from s to t and every segment lies in its face.
+void expect_valid_path(const Mesh& mesh, const SurfacePath& path, int s, int t) {
+  ASSERT_GE(path.points.size(), 2u);
+  ASSERT_EQ(path.segment_faces.size(), path.points.size() - 1);
+  EXPECT_TRUE(path.points.front().is_vertex() && path.points.front().v0 == s);
+  EXPECT_TRUE(path.points.back().is_vertex() && path.points.back().v0 == t);
+  auto in_face = [&](const SurfacePoint& p, int f) {
+    return mesh.corner_of(f, p.v0) >= 0 && (p.is_vertex() || mesh.corner_of(f, p.v1) >= 0);
+  };
+  for (int i = 0; i < path.num_segments(); ++i) {
+    const int f = path.segment_faces[i];
+    ASSERT_TRUE(f >= 0 && f < mesh.num_faces()) << "segment " << i;
+    EXPECT_TRUE(in_face(path.points[i], f) && in_face(path.points[i + 1], f))
+        << "segment " << i << " of " << path.num_segments() << " leaves its face " << f;
+  }
+}
+
+Mesh grid(int n, GridHeight height) {
+  GridOptions options;
+  options.n = n;
+  options.height = height;
+  return make_grid(options);
+}
+
+JobSpec de_job(int source, int target, int population, int generations, uint64_t seed = 3) {
+  JobSpec job;
+  job.source = source;
+  job.target = target;
+  job.method = Method::de;
+  job.de.population = population;
+  job.de.generations = generations;
+  job.seed = seed;
+  job.threads = 1;
+  return job;
+}
+
+// Density 1 with a bump of 5 in the middle of a [-3, 3]^2 grid: the straight diagonal
+// is expensive, the best path bends around the bump.
+std::vector<double> bump_density(const Mesh& mesh) {
+  std::vector<double> rho(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3& p = mesh.position(v);
+    rho[v] = 1.0 + 4.0 * std::exp(-(p.x() * p.x() + p.y() * p.y()) / 2.0);
+  }
+  return rho;
+}
+
+TEST(DeMethod, SameSeedSameResultWhateverTheThreadCount) {
+  const Mesh mesh = grid(17, GridHeight::peaks);
+  for (const std::string strategy : {"rand1bin", "shade"}) {
+    JobSpec job = de_job(0, 17 * 17 - 1, 10, 12, 11);
+    job.de.strategy = strategy;
+    job.threads = 1;
+    const SolveResult one = solve(mesh, job);
+    job.threads = 2;
+    const SolveResult two = solve(mesh, job);
+    job.threads = 4;
+    const SolveResult four = solve(mesh, job);
+    for (const SolveResult* r : {&two, &four}) {
+      EXPECT_EQ(r->energy, one.energy) << strategy;
+      EXPECT_EQ(r->evaluations, one.evaluations) << strategy;
+      ASSERT_EQ(r->path.points.size(), one.path.points.size()) << strategy;
+      for (size_t k = 0; k < one.path.points.size(); ++k) {
+        EXPECT_EQ(r->path.points[k].v0, one.path.points[k].v0);
+        EXPECT_EQ(r->path.points[k].v1, one.path.points[k].v1);
+        EXPECT_EQ(r->path.points[k].t, one.path.points[k].t);
+      }
+    }
+    EXPECT_EQ(one.generations, 12);
+    EXPECT_EQ(one.evaluations, 10 * 13);
+    expect_valid_path(mesh, one.path, 0, 17 * 17 - 1);
+  }
+}
+
+// The paper's setting (random initial densities, rand/1/bin) on a flat grid whose optimum
+// is the straight diagonal: the best energy falls steadily towards it.
+TEST(DeMethod, ConvergesOnASmallFlatGrid) {
+  const int n = 11;
+  const Mesh mesh = grid(n, GridHeight::flat);
+  const double straight = std::sqrt(2.0) * 6.0;
+  std::vector<double> best;
+  SolveHooks hooks;
+  hooks.on_progress = [&](const Progress& p) { best.push_back(p.best_energy); };
+  const SolveResult r = solve(mesh, de_job(0, n * n - 1, 20, 120), hooks);
+  ASSERT_EQ(best.size(), 120u);
+  EXPECT_GT(best.front(), straight * 1.02);  // random densities start well off the optimum
+  EXPECT_LT(r.energy, straight * 1.005);
+  EXPECT_GE(r.energy, straight * (1.0 - 1e-12));
+  EXPECT_EQ(r.energy, best.back());
+  expect_valid_path(mesh, r.path, 0, n * n - 1);
+}
+
+TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
+  const int n = 21;
+  const Mesh mesh = grid(n, GridHeight::flat);
+  JobSpec job = de_job(0, n * n - 1, 16, 30);
+  job.energy.density = bump_density(mesh);
+  job.de.seed_with_problem = true;
+  for (const std::string strategy : {"rand1bin", "shade"}) {
+    job.de.strategy = strategy;
+    const SolveResult r = solve(mesh, job);
+    EXPECT_LE(r.energy, r.fmm_energy) << strategy;
+    EXPECT_LT(r.energy, r.fmm_energy * 0.999) << strategy << ": DE should improve on the fmm back-trace";
+    expect_valid_path(mesh, r.path, 0, n * n - 1);
+  }
+}
+
+// Uniform geodesic on small real meshes: seeded `de` never ends above `fmm`, never below
+// the exact geodesic distance.
+TEST(DeMethod, UniformGeodesicOnSharedMeshesNeverWorseThanFmm) {
+  DEPATH_REQUIRE_SHARED_DATA();
+  std::ifstream truth(test::shared_data("truth/geodesic_exact.csv"));
+  ASSERT_TRUE(truth) << "truth/geodesic_exact.csv missing";
+  std::string line;
+  std::getline(truth, line);  // header
+  std::map<std::string, int> pairs_per_mesh;
+  std::map<std::string, Mesh> meshes;
+  int checked = 0;
+  while (std::getline(truth, line)) {
+    std::stringstream row(line);
+    std::string name, field;
+    std::getline(row, name, ',');
+    if (name != "kitten.off" && name != "cone.off" && name != "terrain_grid30.obj") continue;
+    if (++pairs_per_mesh[name] > 3) continue;
+    int s = 0, t = 0;
+    double exact = 0.0;
+    std::getline(row, field, ',');
+    s = std::stoi(field);
+    std::getline(row, field, ',');
+    t = std::stoi(field);
+    std::getline(row, field, ',');
+    exact = std::stod(field);
+    auto it = meshes.find(name);
+    if (it == meshes.end()) it = meshes.emplace(name, load_mesh(test::shared_data("meshes/" + name))).first;
+    JobSpec job = de_job(s, t, 10, 8);
+    job.de.seed_with_problem = true;
+    job.threads = 2;
+    const SolveResult r = solve(it->second, job);
+    SCOPED_TRACE(name + " " + std::to_string(s) + " -> " + std::to_string(t));
+    EXPECT_LE(r.energy, r.fmm_energy);
+    EXPECT_GE(r.energy, exact * (1.0 - 1e-9)) << "shorter than the exact geodesic: the path is not on the surface";
+    expect_valid_path(it->second, r.path, s, t);
+    ++checked;
+  }
+  EXPECT_EQ(checked, 9);
+}
+
+TEST(DeMethod, ReportsProgressWithTheBestPathEveryKGenerations) {
+  const int n = 15;
+  const Mesh mesh = grid(n, GridHeight::peaks);
+  JobSpec job = de_job(3, n * n - 5, 8, 9);
+  job.path_every = 3;
+  job.threads = 2;
+  const auto energy = make_energy(mesh, job.energy);
+  std::vector<Progress> reports;
+  int with_path = 0;
+  SolveHooks hooks;
+  hooks.on_progress = [&](const Progress& p) {
+    reports.push_back(p);
+    if (p.best_path) {
+      ++with_path;
+      EXPECT_EQ(p.generation % 3, 0);
+      EXPECT_DOUBLE_EQ(energy->evaluate(*p.best_path), p.best_energy);
+      expect_valid_path(mesh, *p.best_path, 3, n * n - 5);
+    }
+  };
+  const SolveResult r = solve(mesh, job, hooks);
+  ASSERT_EQ(reports.size(), 9u);
+  EXPECT_EQ(with_path, 3);
+  for (size_t g = 0; g < reports.size(); ++g) {
+    EXPECT_EQ(reports[g].generation, static_cast<int>(g) + 1);
+    EXPECT_EQ(reports[g].max_generations, 9);
+    EXPECT_EQ(reports[g].evaluations, 8 * static_cast<int64_t>(g + 2));
+    EXPECT_GE(reports[g].mean_energy, reports[g].best_energy);
+    if (g > 0) {
+      EXPECT_LE(reports[g].best_energy, reports[g - 1].best_energy);
+      EXPECT_GE(reports[g].elapsed_seconds, reports[g - 1].elapsed_seconds);
+    }
+  }
+  EXPECT_EQ(r.energy, reports.back().best_energy);
+  EXPECT_EQ(r.stop_reason, "max_generations");
+}
+
+TEST(DeMethod, CancellationReturnsTheBestSoFar) {
+  const int n = 15;
+  const Mesh mesh = grid(n, GridHeight::peaks);
+  std::atomic<int> generations{0};
+  SolveHooks hooks;
+  hooks.on_progress = [&](const Progress&) { ++generations; };
+  hooks.is_cancelled = [&] { return generations.load() >= 2; };
+  const SolveResult r = solve(mesh, de_job(0, n * n - 1, 8, 50), hooks);
+  EXPECT_EQ(r.stop_reason, "cancelled");
+  EXPECT_EQ(r.generations, 2);
+  EXPECT_EQ(r.evaluations, 8 * 3);
+  EXPECT_TRUE(std::isfinite(r.energy));
+  expect_valid_path(mesh, r.path, 0, n * n - 1);
+}
+
+TEST(DeMethod, StopsAfterStallGenerationsWithoutImprovement) {
+  // Flat grid, uniform density: the seeded fmm path is already the straight diagonal,
+  // so the best cannot improve.
+  const int n = 9;
+  const Mesh mesh = grid(n, GridHeight::flat);
+  JobSpec job = de_job(0, n * n - 1, 8, 200);
+  job.de.seed_with_problem = true;
+  job.de.stall = 4;
+  const SolveResult r = solve(mesh, job);
+  EXPECT_EQ(r.stop_reason, "stalled");
+  EXPECT_EQ(r.generations, 4);
+  EXPECT_DOUBLE_EQ(r.energy, r.fmm_energy);
+  EXPECT_NEAR(r.energy, std::sqrt(2.0) * 6.0, 1e-9);
+}
+
+TEST(DeMethod, UnknownStrategyIsAnInvalidArgumentNamingTheValidOnes) {
+  const Mesh mesh = grid(5, GridHeight::flat);
+  JobSpec job = de_job(0, 24, 8, 3);
+  job.de.strategy = "best2exp";
+  try {
+    solve(mesh, job);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+    const std::string m = e.what();
+    EXPECT_NE(m.find("best2exp"), std::string::npos) << m;
+    EXPECT_NE(m.find("rand1bin"), std::string::npos) << m;
+    EXPECT_NE(m.find("shade"), std::string::npos) << m;
+  }
+}
+
+}  // namespace
+}  // namespace depath

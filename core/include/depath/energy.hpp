@@ -65,7 +65,7 @@ const char* energy_kind_name(EnergyKind kind);
 /// Everything needed to build an energy for a mesh.
 struct EnergySpec {
   EnergyKind kind = EnergyKind::geodesic;
-  /// geodesic: per-vertex density (> 0, finite); empty means 1 everywhere.
+  /// geodesic: per-vertex density (>= 0, finite); empty means 1 everywhere.
   std::vector<double> density;
   /// vector_field: per-vertex 3D vectors (projected onto each face's plane).
   std::vector<Vec3> field;

@@ -46,6 +46,10 @@ struct JobSpec {
 /// Checks a job against a mesh. Throws Error(invalid_argument) naming the problem
 /// (vertex out of range, s == t, bad DE options, field/density length ...) or
 /// Error(failed_precondition) when s and t lie in different connected components.
+/// Also builds the energy once to check its spec (see make_energy).
 void validate_job(const Mesh& mesh, const JobSpec& job);
+
+/// The checks of validate_job that do not concern the energy spec.
+void validate_job_options(const Mesh& mesh, const JobSpec& job);
 
 }  // namespace depath

@@ -1,0 +1,151 @@
+#include "depath/fast_marching.hpp"
+
+#include <Eigen/Core>
+
+#include <algorithm>
+#include <cmath>
+
+namespace depath {
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+constexpr int next(int k) { return k == 2 ? 0 : k + 1; }
+constexpr int prev(int k) { return k == 0 ? 2 : k - 1; }
+inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// How far the unfolding walks across neighbouring faces looking for a vertex that
+// splits an obtuse corner into two acute ones. Kimmel & Sethian show a few steps suffice
+// on reasonable meshes; slivers may need more, beyond which we keep the plain update.
+constexpr int kMaxUnfoldSteps = 12;
+// Corners a hair above 90 degrees are numerically fine as they are.
+constexpr double kObtuseCos = -1e-9;
+
+// A triangle update "target c from supports x, y", all in one (unfolded) plane, c at the origin.
+struct PlanarUpdate {
+  int c, x, y;
+  Vec2 px, py;
+};
+
+// Places the third vertex of a face across the edge (pa, pb), on the side away from `away`.
+Vec2 unfold_vertex(const Vec2& pa, const Vec2& pb, double len_a, double len_b, const Vec2& away) {
+  const Vec2 e = pb - pa;
+  const double len = e.norm();
+  const Vec2 dir = e / len;
+  const Vec2 normal(-dir.y(), dir.x());
+  const double along = (len_a * len_a - len_b * len_b + len * len) / (2.0 * len);
+  const double off = std::sqrt(std::max(0.0, len_a * len_a - along * along));
+  const double side = normal.dot(away - pa) > 0 ? -1.0 : 1.0;
+  return pa + along * dir + side * off * normal;
+}
+
+}  // namespace
+
+FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
+  const int nv = mesh.num_vertices();
+  std::vector<PlanarUpdate> planar;
+  std::vector<std::pair<int, int>> edge_only;  // (x, c): edges of degenerate faces
+  planar.reserve(3 * mesh.num_faces() + 64);
+
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const auto& t = mesh.face(f);
+    if (mesh.face_area(f) <= 0.0 || mesh.face_normal(f).squaredNorm() == 0.0) {
+      for (int k = 0; k < 3; ++k) {
+        edge_only.emplace_back(t[k], t[next(k)]);
+        edge_only.emplace_back(t[next(k)], t[k]);
+      }
+      continue;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const int c = t[k], a = t[next(k)], b = t[prev(k)];
+      const double lca = mesh.edge_length(f, prev(k));  // edge opposite b: (c, a)
+      const double lcb = mesh.edge_length(f, next(k));  // edge opposite a: (c, b)
+      const double angle = mesh.corner_angle(f, k);
+      const Vec2 pa(lca, 0.0);
+      const Vec2 pb(lcb * std::cos(angle), lcb * std::sin(angle));
+      if (std::cos(angle) >= kObtuseCos) {
+        planar.push_back({c, a, b, pa, pb});
+        continue;
+      }
+      // Obtuse at c: unfold faces across the opposite edge until a vertex d lies in the
+      // cone where both (c; a, d) and (c; d, b) are acute at c.
+      int face = f, ea = a, eb = b;
+      Vec2 qa = pa, qb = pb;
+      bool split = false;
+      for (int step = 0; step < kMaxUnfoldSteps; ++step) {
+        const int ka = mesh.corner_of(face, ea), kb = mesh.corner_of(face, eb);
+        const int kd = 3 - ka - kb;
+        const int g = mesh.face_neighbor(face, kd);
+        if (g < 0 || mesh.face_area(g) <= 0.0) break;
+        const int ga = mesh.corner_of(g, ea), gb = mesh.corner_of(g, eb);
+        if (ga < 0 || gb < 0) break;
+        const int gd = 3 - ga - gb;
+        const int d = mesh.face(g)[gd];
+        if (d == c) break;
+        // |ea d| is the edge of g opposite eb, |eb d| the one opposite ea.
+        const Vec2 pd = unfold_vertex(qa, qb, mesh.edge_length(g, gb), mesh.edge_length(g, ga), Vec2(0, 0));
+        const bool past_a = pd.dot(pa) > 0.0;  // angle(a, c, d) acute
+        const bool past_b = pd.dot(pb) > 0.0;  // angle(d, c, b) acute
+        if (past_a && past_b) {
+          planar.push_back({c, a, d, pa, pd});
+          planar.push_back({c, d, b, pd, pb});
+          split = true;
+          break;
+        }
+        // Keep unfolding across the edge of g that the acute cone still crosses.
+        if (!past_a) {  // d lies beyond the cone on b's side: the cone crosses edge (ea, d)
+          eb = d;
+          qb = pd;
+        } else {  // d lies beyond the cone on a's side: the cone crosses edge (d, eb)
+          ea = d;
+          qa = pd;
+        }
+        face = g;
+      }
+      if (split) {
+        ++num_split_;
+      } else {
+        ++num_unsplit_;
+        planar.push_back({c, a, b, pa, pb});
+      }
+    }
+  }
+
+  // Store each planar update twice, once at each support vertex (the one whose
+  // acceptance triggers it), grouped by that vertex (CSR).
+  offset_.assign(nv + 1, 0);
+  for (const auto& p : planar) {
+    ++offset_[p.x + 1];
+    ++offset_[p.y + 1];
+  }
+  for (const auto& [x, c] : edge_only) ++offset_[x + 1];
+  for (int v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
+  updates_.resize(offset_[nv]);
+  std::vector<int> fill(offset_.begin(), offset_.end() - 1);
+  auto store = [&](int c, int x, int y, const Vec2& px, const Vec2& py) {
+    const Vec2 e = py - px;
+    const double len2 = e.squaredNorm();
+    Update u;
+    u.target = c;
+    u.other = y;
+    u.len_this = px.norm();
+    u.len_other = py.norm();
+    u.inv_len2 = len2 > 0 ? 1.0 / len2 : 0.0;
+    u.lambda0 = len2 > 0 ? -px.dot(e) / len2 : 0.0;
+    u.height = len2 > 0 ? std::abs(cross2(e, -px)) / std::sqrt(len2) : 0.0;
+    updates_[fill[x]++] = u;
+  };
+  for (const auto& p : planar) {
+    store(p.c, p.x, p.y, p.px, p.py);
+    store(p.c, p.y, p.x, p.py, p.px);
+  }
+  for (const auto& [x, c] : edge_only) {
+    Update u{};
+    u.target = c;
+    u.other = -1;
+    u.len_this = (mesh.position(c) - mesh.position(x)).norm();
+    updates_[fill[x]++] = u;
+  }
+}
+
+}  // namespace depath

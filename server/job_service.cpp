@@ -1,0 +1,177 @@
+#include "job_service.hpp"
+
+#include "depath/wire/wire.hpp"
+#include "service_error.hpp"
+
+#include <mutex>
+
+namespace depath::service {
+
+namespace {
+
+/// Streams a job's events to one client. State is guarded by the subscriber's mutex;
+/// notify() comes from the hub's dispatcher, OnWriteDone from gRPC: whichever finds the
+/// stream idle starts the next write. OnDone detaches and deletes the reactor.
+class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
+ public:
+  WatchReactor(ServiceContext& ctx, std::shared_ptr<EventLog> log, uint64_t after_sequence)
+      : ctx_(ctx), log_(std::move(log)), cursor_(after_sequence), sub_(std::make_shared<Subscriber>(this)) {
+    log_->subscribe(sub_);
+    std::lock_guard lock(sub_->mutex);
+    pump_locked();
+  }
+
+  /// A stream that fails before it starts.
+  WatchReactor(ServiceContext& ctx, const grpc::Status& status) : ctx_(ctx) { Finish(status); }
+
+  void OnWriteDone(bool ok) override {
+    std::lock_guard lock(sub_->mutex);
+    writing_ = false;
+    in_flight_.reset();
+    if (!ok) {  // the client went away
+      finish_locked(grpc::Status(grpc::StatusCode::CANCELLED, "watcher disconnected"));
+      return;
+    }
+    if (sent_terminal_) {
+      finish_locked(grpc::Status::OK);
+      return;
+    }
+    pump_locked();
+  }
+
+  void OnCancel() override {
+    if (!sub_) return;
+    std::lock_guard lock(sub_->mutex);
+    if (!writing_) finish_locked(grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled by the client"));
+    // else OnWriteDone(false) follows and finishes
+  }
+
+  void OnDone() override {
+    if (sub_) {
+      {
+        std::lock_guard lock(sub_->mutex);
+        sub_->reactor = nullptr;
+      }
+      log_->unsubscribe(sub_);
+    }
+    delete this;
+  }
+
+ private:
+  struct Subscriber final : EventSubscriber {
+    explicit Subscriber(WatchReactor* r) : reactor(r) {}
+    void notify() override {
+      std::lock_guard lock(mutex);
+      if (reactor) reactor->pump_locked();
+    }
+    std::mutex mutex;
+    WatchReactor* reactor;
+  };
+
+  void pump_locked() {
+    if (writing_ || finished_) return;
+    EventPtr next = log_->next_after(cursor_);
+    if (!next) {
+      // Nothing new; the log may already be closed (resumed after the terminal event).
+      if (log_->closed() && log_->next_after(cursor_) == nullptr) finish_locked(grpc::Status::OK);
+      return;
+    }
+    in_flight_ = std::move(next);
+    cursor_ = in_flight_->sequence();
+    sent_terminal_ = is_terminal_event(*in_flight_);
+    writing_ = true;
+    StartWrite(in_flight_.get());
+  }
+
+  void finish_locked(const grpc::Status& status) {
+    if (finished_) return;
+    finished_ = true;
+    Finish(status);
+  }
+
+  ServiceContext& ctx_;
+  std::shared_ptr<EventLog> log_;
+  uint64_t cursor_ = 0;
+  std::shared_ptr<Subscriber> sub_;
+  // Guarded by sub_->mutex:
+  EventPtr in_flight_;
+  bool writing_ = false;
+  bool finished_ = false;
+  bool sent_terminal_ = false;
+};
+
+template <class Fn>
+grpc::ServerUnaryReactor* unary(ServiceContext& ctx, grpc::CallbackServerContext* context, bool admit, Fn&& fn) {
+  auto* reactor = context->DefaultReactor();
+  grpc::Status status = admit ? ctx.admit(context) : ctx.authenticate(context);
+  if (status.ok()) {
+    try {
+      fn();
+    } catch (...) {
+      status = current_exception_status();
+    }
+  }
+  reactor->Finish(status);
+  return reactor;
+}
+
+}  // namespace
+
+grpc::ServerUnaryReactor* JobServiceImpl::SubmitJob(grpc::CallbackServerContext* context,
+                                                    const v1::SubmitJobRequest* request, v1::SubmitJobResponse* reply) {
+  return unary(ctx_, context, true, [&] {
+    try {
+      *reply = ctx_.jobs.submit(*request);
+    } catch (...) {
+      const grpc::Status s = current_exception_status();
+      ctx_.log.info("job.refused", {{"peer", context->peer()}, {"mesh", request->spec().mesh_id()},
+                                    {"code", wire::status_code_name(s.error_code())}, {"reason", s.error_message()}});
+      throw;
+    }
+  });
+}
+
+grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::WatchJob(grpc::CallbackServerContext* context,
+                                                                 const v1::WatchJobRequest* request) {
+  grpc::Status status = ctx_.authenticate(context);
+  if (!status.ok()) return new WatchReactor(ctx_, status);
+  try {
+    return new WatchReactor(ctx_, ctx_.jobs.events(request->job_id()), request->after_sequence());
+  } catch (...) {
+    return new WatchReactor(ctx_, current_exception_status());
+  }
+}
+
+grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::Solve(grpc::CallbackServerContext* context,
+                                                              const v1::SubmitJobRequest* request) {
+  grpc::Status status = ctx_.admit(context);
+  if (!status.ok()) return new WatchReactor(ctx_, status);
+  try {
+    const auto reply = ctx_.jobs.submit(*request);
+    return new WatchReactor(ctx_, ctx_.jobs.events(reply.job_id()), 0);
+  } catch (...) {
+    return new WatchReactor(ctx_, current_exception_status());
+  }
+}
+
+grpc::ServerUnaryReactor* JobServiceImpl::GetJob(grpc::CallbackServerContext* context, const v1::GetJobRequest* request,
+                                                 v1::JobInfo* reply) {
+  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.get(request->job_id()); });
+}
+
+grpc::ServerUnaryReactor* JobServiceImpl::GetResult(grpc::CallbackServerContext* context,
+                                                    const v1::GetResultRequest* request, v1::JobResult* reply) {
+  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.result(request->job_id()); });
+}
+
+grpc::ServerUnaryReactor* JobServiceImpl::ListJobs(grpc::CallbackServerContext* context,
+                                                   const v1::ListJobsRequest* request, v1::ListJobsResponse* reply) {
+  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.list(*request); });
+}
+
+grpc::ServerUnaryReactor* JobServiceImpl::CancelJob(grpc::CallbackServerContext* context,
+                                                    const v1::CancelJobRequest* request, v1::JobInfo* reply) {
+  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.cancel(request->job_id()); });
+}
+
+}  // namespace depath::service

@@ -1,0 +1,83 @@
+// depathd: the depath gRPC server (SPEC §3).
+#include "depath/error.hpp"
+#include "server.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <future>
+#include <pthread.h>
+#include <unistd.h>
+
+int main(int argc, char** argv) {
+  depath::service::ServerOptions o;
+  std::string port_file;
+  CLI::App app{"depathd: the depath gRPC server (mesh and job services, health, reflection)"};
+  app.set_version_flag("--version", "depathd 0.1.0");
+  app.add_option("--listen", o.listen, "Address to listen on, host:port (port 0 picks a free one)")
+      ->capture_default_str();
+  app.add_option("--threads", o.threads, "Evaluation threads shared by all running jobs (0 = all cores)")
+      ->capture_default_str();
+  app.add_option("--max-running-jobs", o.max_running_jobs, "Jobs solving at the same time")->capture_default_str();
+  app.add_option("--max-queued-jobs", o.max_queued_jobs, "Jobs waiting to run; more are refused (RESOURCE_EXHAUSTED)")
+      ->capture_default_str();
+  app.add_option("--mesh-cache-bytes", o.mesh_cache_bytes, "Memory budget of parsed meshes (LRU; in-use meshes stay)")
+      ->capture_default_str();
+  app.add_option("--max-upload-bytes", o.max_upload_bytes, "Largest mesh file accepted by UploadMesh")
+      ->capture_default_str();
+  app.add_option("--max-message-bytes", o.max_message_bytes, "Largest gRPC message received or sent")
+      ->capture_default_str();
+  app.add_option("--job-ttl-seconds", o.job_ttl_seconds, "How long finished jobs (and results) are kept")
+      ->capture_default_str();
+  app.add_option("--shutdown-timeout-seconds", o.shutdown_timeout_seconds,
+                 "Bound on a graceful shutdown (SIGTERM/SIGINT)")
+      ->capture_default_str();
+  app.add_option("--data-dir", o.data_dir, "Persist uploaded meshes here; reloaded on a cache miss or restart");
+  app.add_option("--auth-token", o.auth_token,
+                 "Require metadata 'authorization: Bearer TOKEN' on every call (health exempt)");
+  app.add_option("--log-format", o.log_format, "Log lines as text or json")
+      ->check(CLI::IsMember({"text", "json"}))
+      ->capture_default_str();
+  app.add_option("--log-level", o.log_level, "trace, debug, info, warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
+      ->capture_default_str();
+  app.add_option("--port-file", port_file, "Write the port listened on to this file once serving");
+  CLI11_PARSE(app, argc, argv);
+
+  // Handle SIGTERM/SIGINT on this thread only: block them before any thread starts.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  std::unique_ptr<depath::service::Server> server;
+  try {
+    server = std::make_unique<depath::service::Server>(o);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "depathd: error: %s\n", e.what());
+    return 2;
+  }
+  if (!port_file.empty()) {
+    std::ofstream(port_file + ".tmp") << server->port() << '\n';
+    std::rename((port_file + ".tmp").c_str(), port_file.c_str());
+  }
+  int sig = 0;
+  sigwait(&signals, &sig);
+  // Bounded exit: if the graceful path overruns (a job ignoring cancellation), leave anyway.
+  std::thread([timeout = o.shutdown_timeout_seconds] {
+    std::this_thread::sleep_for(std::chrono::duration<double>(timeout + 5.0));
+    std::fprintf(stderr, "depathd: shutdown overran its bound; exiting now\n");
+    _exit(3);
+  }).detach();
+  const bool clean = server->shutdown();
+  if (!clean) {
+    std::fprintf(stderr, "depathd: running jobs did not stop within --shutdown-timeout-seconds; exiting\n");
+    _exit(3);
+  }
+  server.reset();
+  return 0;
+}

@@ -1,0 +1,151 @@
+#include "mesh_service.hpp"
+
+#include "depath/error.hpp"
+#include "depath/mesh_io.hpp"
+#include "depath/wire/wire.hpp"
+#include "service_error.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <mutex>
+
+namespace depath::service {
+
+namespace {
+
+/// Reads the header and chunks, hashing and buffering them; then parses on the blocking
+/// queue (not on a gRPC thread) and finishes with the mesh's info.
+class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest> {
+ public:
+  UploadReactor(ServiceContext& ctx, grpc::CallbackServerContext* context, v1::MeshInfo* reply)
+      : ctx_(ctx), reply_(reply), peer_(context->peer()) {
+    grpc::Status s = ctx_.admit(context);
+    if (!s.ok()) {
+      Finish(s);
+      return;
+    }
+    StartRead(&request_);
+  }
+
+  void OnReadDone(bool ok) override {
+    if (!ok) {  // client finished sending (or went away)
+      complete();
+      return;
+    }
+    if (request_.has_header()) {
+      if (have_header_) return fail({grpc::StatusCode::INVALID_ARGUMENT, "upload has a second header"});
+      have_header_ = true;
+      const auto& h = request_.header();
+      name_ = h.file_name().empty() ? "upload" : h.file_name();
+      try {
+        format_ = h.format().empty() ? mesh_format_from_path(name_) : h.format();
+      } catch (const std::exception& e) {
+        return fail({grpc::StatusCode::INVALID_ARGUMENT,
+                     std::string(e.what()) + " (set the header's format to obj, off, ply or stl)"});
+      }
+      std::transform(format_.begin(), format_.end(), format_.begin(), [](unsigned char c) { return std::tolower(c); });
+      if (format_ != "obj" && format_ != "off" && format_ != "ply" && format_ != "stl") {
+        return fail({grpc::StatusCode::INVALID_ARGUMENT,
+                     "unknown mesh format '" + h.format() + "' (expected obj, off, ply or stl)"});
+      }
+      if (h.size_bytes() > ctx_.options.max_upload_bytes) return fail(too_big(h.size_bytes()));
+      if (h.size_bytes() > 0) bytes_.reserve(h.size_bytes());
+    } else if (request_.part_case() == v1::UploadMeshRequest::kChunk) {
+      if (!have_header_) {
+        return fail({grpc::StatusCode::INVALID_ARGUMENT, "upload must start with a header (file name and format)"});
+      }
+      const std::string& chunk = request_.chunk();
+      if (bytes_.size() + chunk.size() > ctx_.options.max_upload_bytes) {
+        return fail(too_big(bytes_.size() + chunk.size()));
+      }
+      bytes_.append(chunk);
+    }
+    StartRead(&request_);
+  }
+
+  void OnDone() override { delete this; }
+
+ private:
+  grpc::Status too_big(uint64_t n) const {
+    return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+            "mesh upload of " + std::to_string(n) + " bytes (or more) exceeds the server's limit of " +
+                std::to_string(ctx_.options.max_upload_bytes) + " bytes (--max-upload-bytes)"};
+  }
+
+  void fail(const grpc::Status& s) {
+    ctx_.log.info("mesh.upload_refused", {{"peer", peer_}, {"code", wire::status_code_name(s.error_code())},
+                                          {"reason", s.error_message()}});
+    Finish(s);
+  }
+
+  void complete() {
+    if (!have_header_) return fail({grpc::StatusCode::INVALID_ARGUMENT, "upload must start with a header (file name and format)"});
+    if (bytes_.empty()) return fail({grpc::StatusCode::INVALID_ARGUMENT, "upload of '" + name_ + "' has no bytes"});
+    ctx_.blocking.post([this] {
+      grpc::Status status;
+      try {
+        const std::string id = wire::sha256_hex(bytes_);
+        *reply_ = ctx_.meshes.add(id, name_, format_, bytes_);
+        ctx_.log.info("mesh.uploaded", {{"mesh", id},
+                                        {"name", name_},
+                                        {"bytes", bytes_.size()},
+                                        {"vertices", reply_->num_vertices()},
+                                        {"faces", reply_->num_faces()},
+                                        {"already_present", reply_->already_present()}});
+      } catch (...) {
+        status = current_exception_status();
+        ctx_.log.info("mesh.upload_refused", {{"peer", peer_}, {"name", name_},
+                                              {"code", wire::status_code_name(status.error_code())},
+                                              {"reason", status.error_message()}});
+      }
+      std::string().swap(bytes_);
+      Finish(status);
+    });
+  }
+
+  ServiceContext& ctx_;
+  v1::MeshInfo* reply_;
+  std::string peer_;
+  v1::UploadMeshRequest request_;
+  bool have_header_ = false;
+  std::string name_, format_, bytes_;
+};
+
+template <class Fn>
+grpc::ServerUnaryReactor* unary(ServiceContext& ctx, grpc::CallbackServerContext* context, bool admit, Fn&& fn) {
+  auto* reactor = context->DefaultReactor();
+  grpc::Status status = admit ? ctx.admit(context) : ctx.authenticate(context);
+  if (status.ok()) {
+    try {
+      fn();
+    } catch (...) {
+      status = current_exception_status();
+    }
+  }
+  reactor->Finish(status);
+  return reactor;
+}
+
+}  // namespace
+
+grpc::ServerReadReactor<v1::UploadMeshRequest>* MeshServiceImpl::UploadMesh(grpc::CallbackServerContext* context,
+                                                                            v1::MeshInfo* reply) {
+  return new UploadReactor(ctx_, context, reply);
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::GetMesh(grpc::CallbackServerContext* context,
+                                                   const v1::GetMeshRequest* request, v1::MeshInfo* reply) {
+  return unary(ctx_, context, false, [&] { *reply = ctx_.meshes.get(request->id()); });
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::ListMeshes(grpc::CallbackServerContext* context,
+                                                      const v1::ListMeshesRequest*, v1::ListMeshesResponse* reply) {
+  return unary(ctx_, context, false, [&] { *reply = ctx_.meshes.list(); });
+}
+
+grpc::ServerUnaryReactor* MeshServiceImpl::DeleteMesh(grpc::CallbackServerContext* context,
+                                                      const v1::DeleteMeshRequest* request, v1::DeleteMeshResponse*) {
+  return unary(ctx_, context, false, [&] { ctx_.meshes.remove(request->id()); });
+}
+
+}  // namespace depath::service

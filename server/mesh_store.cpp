@@ -1,0 +1,248 @@
+#include "mesh_store.hpp"
+
+#include "depath/error.hpp"
+#include "depath/mesh_io.hpp"
+#include "depath/wire/wire.hpp"
+#include "service_error.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace depath::service {
+
+namespace {
+const char* const kFormats[] = {"obj", "off", "ply", "stl"};
+
+ServiceError not_found(const std::string& id) {
+  return ServiceError(grpc::StatusCode::NOT_FOUND,
+                      "mesh " + id + " not found (unknown, deleted or evicted from the cache): upload it again");
+}
+}  // namespace
+
+bool is_mesh_id(const std::string& id) {
+  if (id.size() != 64) return false;
+  for (char c : id) {
+    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+  }
+  return true;
+}
+
+MeshLease::~MeshLease() { store_->release(record_); }
+
+MeshStore::MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log)
+    : budget_(budget_bytes), data_dir_(std::move(data_dir)), log_(log) {
+  if (!data_dir_.empty()) {
+    std::error_code ec;
+    fs::create_directories(data_dir_, ec);
+    if (ec) throw Error(ErrorCode::invalid_argument, "cannot create --data-dir " + data_dir_ + ": " + ec.message());
+  }
+}
+
+std::string MeshStore::disk_path(const std::string& id, const std::string& format) const {
+  return (fs::path(data_dir_) / (id + "." + format)).string();
+}
+
+void MeshStore::touch_locked(Record& r) {
+  lru_.splice(lru_.begin(), lru_, r.lru_it);
+}
+
+v1::MeshInfo MeshStore::info_locked(const Record& r) const {
+  v1::MeshInfo info = r.info;
+  info.set_id(r.id);
+  info.set_name(r.name);
+  info.set_format(r.format);
+  info.set_size_bytes(r.size_bytes);
+  info.set_memory_bytes(r.memory_bytes);
+  info.set_jobs_using(r.pins);
+  info.set_cached(true);
+  return info;
+}
+
+std::optional<v1::MeshInfo> MeshStore::find_cached(const std::string& id) {
+  std::lock_guard lock(mutex_);
+  auto it = records_.find(id);
+  if (it == records_.end()) return std::nullopt;
+  touch_locked(*it->second);
+  return info_locked(*it->second);
+}
+
+namespace {
+std::shared_ptr<MeshRecord> parse_record(const std::string& id, const std::string& name, const std::string& format,
+                                         const std::string& bytes) {
+  auto r = std::make_shared<MeshRecord>();
+  r->id = id;
+  r->name = name;
+  r->format = format;
+  r->size_bytes = bytes.size();
+  r->mesh = std::make_shared<const Mesh>(load_mesh_from_bytes(bytes, format, name));
+  wire::mesh_info_from_mesh(*r->mesh, &r->info);
+  r->memory_bytes = wire::mesh_memory_bytes(*r->mesh);
+  return r;
+}
+}  // namespace
+
+std::shared_ptr<MeshRecord> MeshStore::insert_locked(std::shared_ptr<Record> record) {
+  auto it = records_.find(record->id);
+  if (it != records_.end()) {  // someone else inserted it meanwhile
+    touch_locked(*it->second);
+    return it->second;
+  }
+  lru_.push_front(record->id);
+  record->lru_it = lru_.begin();
+  record->in_cache = true;
+  bytes_ += record->memory_bytes;
+  records_.emplace(record->id, record);
+  evict_locked(record->id);
+  return record;
+}
+
+void MeshStore::evict_locked(const std::string& keep) {
+  auto it = lru_.end();
+  while (bytes_ > budget_ && it != lru_.begin()) {
+    --it;
+    auto rec_it = records_.find(*it);
+    Record& r = *rec_it->second;
+    if (r.pins > 0 || r.id == keep) continue;
+    log_.info("mesh.evicted", {{"mesh", r.id}, {"memory_bytes", r.memory_bytes}, {"cache_bytes", bytes_},
+                               {"budget_bytes", budget_}});
+    bytes_ -= r.memory_bytes;
+    r.in_cache = false;
+    it = lru_.erase(it);
+    records_.erase(rec_it);
+  }
+}
+
+v1::MeshInfo MeshStore::add(const std::string& id, const std::string& name, const std::string& format,
+                            const std::string& bytes) {
+  if (auto found = find_cached(id)) {
+    found->set_already_present(true);
+    return *found;
+  }
+  auto record = parse_record(id, name, format, bytes);  // slow part, outside the lock
+  if (!data_dir_.empty()) {
+    const std::string path = disk_path(id, format);
+    const std::string tmp = path + ".tmp";
+    {
+      std::ofstream out(tmp, std::ios::binary);
+      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+      if (!out) throw Error(ErrorCode::internal, "cannot write " + tmp + " in --data-dir");
+    }
+    std::error_code ec;
+    fs::rename(tmp, path, ec);
+    if (ec) throw Error(ErrorCode::internal, "cannot rename " + tmp + ": " + ec.message());
+  }
+  std::lock_guard lock(mutex_);
+  auto stored = insert_locked(std::move(record));
+  return info_locked(*stored);
+}
+
+std::shared_ptr<MeshRecord> MeshStore::load_from_disk(const std::string& id) {
+  if (data_dir_.empty() || !is_mesh_id(id)) return nullptr;
+  for (const char* format : kFormats) {
+    const std::string path = disk_path(id, format);
+    std::ifstream in(path, std::ios::binary);
+    if (!in) continue;
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    auto record = parse_record(id, id + "." + format, format, bytes);
+    log_.info("mesh.reloaded", {{"mesh", id}, {"path", path}});
+    return record;
+  }
+  return nullptr;
+}
+
+std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
+  {
+    std::lock_guard lock(mutex_);
+    auto it = records_.find(id);
+    if (it != records_.end()) {
+      touch_locked(*it->second);
+      return it->second;
+    }
+  }
+  auto record = load_from_disk(id);
+  if (!record) throw not_found(id);
+  std::lock_guard lock(mutex_);
+  return insert_locked(std::move(record));
+}
+
+v1::MeshInfo MeshStore::get(const std::string& id) {
+  auto record = lookup_or_load(id);
+  std::lock_guard lock(mutex_);
+  return info_locked(*record);
+}
+
+v1::ListMeshesResponse MeshStore::list() {
+  v1::ListMeshesResponse out;
+  std::lock_guard lock(mutex_);
+  for (const auto& id : lru_) *out.add_meshes() = info_locked(*records_.at(id));
+  if (!data_dir_.empty()) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(data_dir_, ec)) {
+      const std::string stem = entry.path().stem().string();
+      std::string ext = entry.path().extension().string();
+      if (!ext.empty()) ext.erase(0, 1);
+      if (!is_mesh_id(stem) || records_.count(stem)) continue;
+      bool known_format = false;
+      for (const char* f : kFormats) known_format |= ext == f;
+      if (!known_format) continue;
+      auto* info = out.add_meshes();
+      info->set_id(stem);
+      info->set_name(stem + "." + ext);
+      info->set_format(ext);
+      info->set_size_bytes(entry.file_size(ec));
+      info->set_cached(false);
+    }
+  }
+  out.set_cache_bytes(bytes_);
+  out.set_cache_budget_bytes(budget_);
+  return out;
+}
+
+void MeshStore::remove(const std::string& id) {
+  bool found = false;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = records_.find(id);
+    if (it != records_.end()) {
+      found = true;
+      Record& r = *it->second;
+      bytes_ -= r.memory_bytes;
+      r.in_cache = false;
+      lru_.erase(r.lru_it);
+      records_.erase(it);
+    }
+  }
+  if (!data_dir_.empty() && is_mesh_id(id)) {
+    for (const char* format : kFormats) {
+      std::error_code ec;
+      found |= fs::remove(disk_path(id, format), ec);
+    }
+  }
+  if (!found) throw not_found(id);
+  log_.info("mesh.deleted", {{"mesh", id}});
+}
+
+std::shared_ptr<MeshLease> MeshStore::acquire(const std::string& id) {
+  auto record = lookup_or_load(id);
+  std::lock_guard lock(mutex_);
+  ++record->pins;
+  return std::shared_ptr<MeshLease>(new MeshLease(this, record));
+}
+
+void MeshStore::release(const std::shared_ptr<Record>& record) {
+  std::lock_guard lock(mutex_);
+  --record->pins;
+  // A mesh kept over budget only because a job held it may go now.
+  if (record->pins == 0 && bytes_ > budget_) evict_locked("");
+}
+
+uint64_t MeshStore::cached_bytes() {
+  std::lock_guard lock(mutex_);
+  return bytes_;
+}
+
+}  // namespace depath::service

@@ -1,0 +1,106 @@
+// Parsed meshes by id (SHA-256 of their bytes): an LRU cache with a byte budget that never
+// evicts a mesh a queued or running job holds, optionally backed by a directory on disk.
+#pragma once
+
+#include "depath/mesh.hpp"
+#include "depath/v1/mesh.pb.h"
+#include "log.hpp"
+
+#include <cstdint>
+#include <list>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_map>
+
+namespace depath::service {
+
+class MeshStore;
+
+/// One stored mesh (all fields guarded by the store's mutex, except the immutable mesh).
+struct MeshRecord {
+  std::string id, name, format;
+  uint64_t size_bytes = 0;
+  uint64_t memory_bytes = 0;
+  std::shared_ptr<const Mesh> mesh;
+  v1::MeshInfo info;  // counts, bounding box, warnings
+  int pins = 0;
+  bool in_cache = false;
+  std::list<std::string>::iterator lru_it;
+};
+
+/// A job's hold on a mesh: while it lives the mesh is not evicted.
+class MeshLease {
+ public:
+  ~MeshLease();
+  MeshLease(const MeshLease&) = delete;
+  MeshLease& operator=(const MeshLease&) = delete;
+  const Mesh& mesh() const { return *mesh_; }
+  const std::string& id() const { return id_; }
+
+ private:
+  friend class MeshStore;
+  MeshLease(MeshStore* store, std::shared_ptr<MeshRecord> record)
+      : store_(store), record_(std::move(record)), mesh_(record_->mesh), id_(record_->id) {}
+  MeshStore* store_;
+  std::shared_ptr<MeshRecord> record_;
+  std::shared_ptr<const Mesh> mesh_;
+  std::string id_;
+};
+
+class MeshStore {
+ public:
+  /// `data_dir` empty: memory only. Creates the directory if needed.
+  MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log);
+
+  /// Info of a cached mesh (marks it recently used), or nullopt. Never reads the disk.
+  std::optional<v1::MeshInfo> find_cached(const std::string& id);
+
+  /// Parses `bytes` (format "obj"/"off"/"ply"/"stl"), stores the mesh under `id` and
+  /// persists the bytes in the data directory. Throws depath::Error(invalid_argument) with
+  /// the loader's message for a bad file. If the id is already cached, nothing is parsed.
+  v1::MeshInfo add(const std::string& id, const std::string& name, const std::string& format,
+                   const std::string& bytes);
+
+  /// Info of a mesh, reloading it from the data directory on a cache miss.
+  /// Throws ServiceError(NOT_FOUND).
+  v1::MeshInfo get(const std::string& id);
+
+  v1::ListMeshesResponse list();
+
+  /// Removes the mesh from the cache and the data directory. Throws NOT_FOUND.
+  void remove(const std::string& id);
+
+  /// Pins the mesh for a job (reloading it from disk if needed). Throws NOT_FOUND.
+  std::shared_ptr<MeshLease> acquire(const std::string& id);
+
+  uint64_t cached_bytes();
+
+ private:
+  friend class MeshLease;
+  using Record = MeshRecord;
+
+  void release(const std::shared_ptr<Record>& record);
+  std::shared_ptr<Record> insert_locked(std::shared_ptr<Record> record);
+  void evict_locked(const std::string& keep);
+  v1::MeshInfo info_locked(const Record& r) const;
+  void touch_locked(Record& r);
+  /// Loads <data_dir>/<id>.<fmt> if present (outside the lock); nullptr if absent.
+  std::shared_ptr<Record> load_from_disk(const std::string& id);
+  std::string disk_path(const std::string& id, const std::string& format) const;
+  std::shared_ptr<Record> lookup_or_load(const std::string& id);
+
+  const uint64_t budget_;
+  const std::string data_dir_;
+  Log& log_;
+  std::mutex mutex_;
+  std::unordered_map<std::string, std::shared_ptr<Record>> records_;
+  std::list<std::string> lru_;  // most recent first
+  uint64_t bytes_ = 0;
+};
+
+/// True for a 64-character lowercase hex string.
+bool is_mesh_id(const std::string& id);
+
+}  // namespace depath::service

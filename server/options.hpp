@@ -1,0 +1,26 @@
+// Limits and settings of a depathd server (each is a command-line flag of depathd).
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace depath::service {
+
+struct ServerOptions {
+  std::string listen = "0.0.0.0:50051";  ///< host:port; port 0 picks a free port
+  int threads = 0;                        ///< evaluation workers of the shared pool (0 = all cores)
+  int max_running_jobs = 2;               ///< jobs solving at the same time
+  int max_queued_jobs = 64;               ///< jobs waiting to run; more: RESOURCE_EXHAUSTED
+  uint64_t mesh_cache_bytes = 1ull << 30; ///< budget of parsed meshes in memory (LRU)
+  uint64_t max_upload_bytes = 256ull << 20;
+  int max_message_bytes = 64 << 20;       ///< largest gRPC message received or sent
+  double job_ttl_seconds = 3600;          ///< finished jobs are forgotten after this
+  double shutdown_timeout_seconds = 10;   ///< bound on a graceful shutdown
+  std::string data_dir;                   ///< persist uploaded meshes here (optional)
+  std::string auth_token;                 ///< require `authorization: Bearer TOKEN` (optional)
+  std::string log_format = "text";        ///< "text" or "json"
+  std::string log_level = "info";         ///< spdlog level name ("off" in quiet tests)
+  int upload_parsers = 2;                 ///< threads parsing uploaded meshes
+};
+
+}  // namespace depath::service

@@ -1,0 +1,157 @@
+#include "server.hpp"
+
+#include "depath/error.hpp"
+#include "depath/thread_pool.hpp"
+#include "event_log.hpp"
+#include "job_manager.hpp"
+#include "job_service.hpp"
+#include "log.hpp"
+#include "mesh_service.hpp"
+#include "mesh_store.hpp"
+#include "service_context.hpp"
+#include "task_queue.hpp"
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/security/server_credentials.h>
+#include <grpcpp/server.h>
+#include <grpcpp/server_builder.h>
+
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+
+namespace depath::service {
+
+namespace {
+void check_options(const ServerOptions& o) {
+  auto bad = [](const std::string& what) { throw Error(ErrorCode::invalid_argument, what); };
+  if (o.threads < 0) bad("--threads must be >= 0 (0 = all cores)");
+  if (o.max_running_jobs < 1) bad("--max-running-jobs must be >= 1");
+  if (o.max_queued_jobs < 0) bad("--max-queued-jobs must be >= 0");
+  if (o.max_upload_bytes == 0) bad("--max-upload-bytes must be > 0");
+  if (o.max_message_bytes < 1024) bad("--max-message-bytes must be >= 1024");
+  if (o.job_ttl_seconds < 0) bad("--job-ttl-seconds must be >= 0");
+  if (o.shutdown_timeout_seconds < 0) bad("--shutdown-timeout-seconds must be >= 0");
+  if (o.upload_parsers < 1) bad("upload parser threads must be >= 1");
+}
+
+int pool_workers(const ServerOptions& o) {
+  if (o.threads > 0) return o.threads;
+  const int hw = static_cast<int>(std::thread::hardware_concurrency());
+  return std::max(1, hw);
+}
+}  // namespace
+
+struct Server::Impl {
+  explicit Impl(const ServerOptions& o)
+      : options(o),
+        log(o.log_format, o.log_level),
+        // The pool's callers (one driver per running job) work too, so give it one fewer
+        // worker than the threads asked for.
+        pool(std::max(0, pool_workers(o) - 1)),
+        meshes(o.mesh_cache_bytes, o.data_dir, log),
+        jobs(options, meshes, hub, pool, log),
+        blocking(o.upload_parsers),
+        context{options, meshes, jobs, log, blocking},
+        mesh_service(context),
+        job_service(context) {}
+
+  ServerOptions options;
+  Log log;
+  ThreadPool pool;
+  EventHub hub;
+  MeshStore meshes;
+  JobManager jobs;
+  TaskQueue blocking;
+  ServiceContext context;
+  MeshServiceImpl mesh_service;
+  JobServiceImpl job_service;
+  std::unique_ptr<grpc::Server> server;
+  int port = 0;
+
+  std::mutex mutex;
+  std::condition_variable done_cv;
+  bool shutdown_started = false;
+  bool shutdown_done = false;
+  bool clean = true;
+};
+
+Server::Server(const ServerOptions& options) {
+  check_options(options);
+  impl_ = std::make_unique<Impl>(options);
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &impl_->port);
+  builder.SetMaxReceiveMessageSize(options.max_message_bytes);
+  builder.SetMaxSendMessageSize(options.max_message_bytes);
+  builder.RegisterService(&impl_->mesh_service);
+  builder.RegisterService(&impl_->job_service);
+  impl_->server = builder.BuildAndStart();
+  if (!impl_->server || impl_->port == 0) {
+    impl_.reset();
+    throw Error(ErrorCode::invalid_argument, "cannot listen on '" + options.listen + "' (address in use or invalid?)");
+  }
+  auto* health = impl_->server->GetHealthCheckService();
+  health->SetServingStatus(true);
+  impl_->log.info("server.started", {{"listen", options.listen},
+                                     {"port", impl_->port},
+                                     {"threads", impl_->pool.num_threads() + 1},
+                                     {"max_running_jobs", options.max_running_jobs},
+                                     {"max_queued_jobs", options.max_queued_jobs},
+                                     {"mesh_cache_bytes", options.mesh_cache_bytes},
+                                     {"data_dir", options.data_dir},
+                                     {"auth", !options.auth_token.empty()}});
+}
+
+Server::~Server() {
+  if (impl_) shutdown();
+}
+
+int Server::port() const { return impl_->port; }
+
+bool Server::shutdown() {
+  auto& s = *impl_;
+  {
+    std::unique_lock lock(s.mutex);
+    if (s.shutdown_started) {
+      s.done_cv.wait(lock, [&] { return s.shutdown_done; });
+      return s.clean;
+    }
+    s.shutdown_started = true;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline =
+      start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                  std::chrono::duration<double>(s.options.shutdown_timeout_seconds));
+  s.log.info("server.shutting_down", {{"running_jobs", s.jobs.running_jobs()}, {"queued_jobs", s.jobs.queued_jobs()}});
+  s.server->GetHealthCheckService()->SetServingStatus(false);
+  s.context.shutting_down.store(true);
+  s.jobs.begin_shutdown();
+  const bool clean = s.jobs.wait_idle(deadline);
+  s.hub.flush();  // watchers now have their final events queued
+  // Give open streams the rest of the budget (at least a moment) to deliver them.
+  const auto grpc_deadline = std::max(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(500));
+  s.server->Shutdown(std::chrono::system_clock::now() +
+                     std::chrono::duration_cast<std::chrono::system_clock::duration>(grpc_deadline -
+                                                                                     std::chrono::steady_clock::now()));
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (clean) s.log.info("server.stopped", {{"seconds", seconds}});
+  else s.log.warn("server.stopped", {{"seconds", seconds}, {"reason", "running jobs did not stop in time"}});
+  {
+    std::lock_guard lock(s.mutex);
+    s.shutdown_done = true;
+    s.clean = clean;
+  }
+  s.done_cv.notify_all();
+  return clean;
+}
+
+void Server::wait() {
+  auto& s = *impl_;
+  std::unique_lock lock(s.mutex);
+  s.done_cv.wait(lock, [&] { return s.shutdown_done; });
+}
+
+}  // namespace depath::service

@@ -128,11 +128,11 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     Update u;
     u.target = c;
     u.other = y;
-    u.len_this = px.norm();
-    u.len_other = py.norm();
-    u.inv_len2 = len2 > 0 ? 1.0 / len2 : 0.0;
-    u.lambda0 = len2 > 0 ? -px.dot(e) / len2 : 0.0;
-    u.height = len2 > 0 ? std::abs(cross2(e, -px)) / std::sqrt(len2) : 0.0;
+    u.len_this = float(px.norm());
+    u.len_other = float(py.norm());
+    u.inv_len2 = len2 > 0 ? float(1.0 / len2) : 0.0f;
+    u.lambda0 = len2 > 0 ? float(-px.dot(e) / len2) : 0.0f;
+    u.height = len2 > 0 ? float(std::abs(cross2(e, -px)) / std::sqrt(len2)) : 0.0f;
     updates_[fill[x]++] = u;
   };
   for (const auto& p : planar) {
@@ -143,7 +143,7 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     Update u{};
     u.target = c;
     u.other = -1;
-    u.len_this = (mesh.position(c) - mesh.position(x)).norm();
+    u.len_this = float((mesh.position(c) - mesh.position(x)).norm());
     updates_[fill[x]++] = u;
   }
 }

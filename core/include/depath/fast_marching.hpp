@@ -19,14 +19,16 @@ class FastMarchingStencils {
   const Mesh& mesh() const { return mesh_; }
 
   /// One update "target from (this vertex, other)", stored at the accepting vertex.
+  /// Geometry is kept in float: 28 bytes an update keeps the table cache-resident, and
+  /// float's 1e-7 relative error is far below the method's discretisation error.
   struct Update {
-    int target;         ///< vertex whose value is updated
-    int other;          ///< second support vertex (must be final too)
-    double lambda0;     ///< foot of the perpendicular from target on support line, as parameter
-    double height;      ///< distance from target to the support line
-    double inv_len2;    ///< 1 / |other - this|^2 (in the unfolded plane)
-    double len_this;    ///< |target - this|
-    double len_other;   ///< |target - other|
+    int target;       ///< vertex whose value is updated
+    int other;        ///< second support vertex (must be final too), -1 for an edge-only update
+    float lambda0;    ///< foot of the perpendicular from target on the support line, as parameter
+    float height;     ///< distance from target to the support line
+    float inv_len2;   ///< 1 / |other - this|^2 (in the unfolded plane)
+    float len_this;   ///< |target - this|
+    float len_other;  ///< |target - other|
   };
   const Update* updates_begin(int v) const { return updates_.data() + offset_[v]; }
   const Update* updates_end(int v) const { return updates_.data() + offset_[v + 1]; }
@@ -76,7 +78,11 @@ class FastMarching {
   std::vector<double> u_;
   std::vector<uint8_t> state_;
   std::vector<int32_t> order_;
-  std::vector<int32_t> heap_;      // vertex ids, binary min-heap on u_
+  struct HeapEntry {
+    double key;  // copy of u_[vertex]: sifting compares without an indirection
+    int32_t vertex;
+  };
+  std::vector<HeapEntry> heap_;    // binary min-heap on key
   std::vector<int32_t> heap_pos_;  // position of each vertex in heap_, or -1
   int num_final_ = 0;
 };

@@ -1,0 +1,101 @@
+// Time per decode (fast marching + back-trace + energy) on each shared mesh.
+//
+//   build/bench/decode_benchmark [--benchmark_filter=bimba]
+//
+// Reports, per mesh: a full-mesh fast march (no early stop), a decode with the early stop
+// at the target (what DE does thousands of times), and throughput in vertices per second.
+#include "depath/energy.hpp"
+#include "depath/fast_marching.hpp"
+#include "depath/mesh_io.hpp"
+#include "depath/path_decoder.hpp"
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+const char* kMeshes[] = {"terrain_grid30.obj", "cone.off",      "kitten.off",    "beethoven.ply", "dragon.obj",
+                         "camelhead.off",      "bimba.obj",     "bunny.off",     "armadillo.obj"};
+
+std::string shared_mesh(const std::string& name) { return std::string(DEPATH_SHARED_DATA) + "/meshes/" + name; }
+
+struct Fixture {
+  std::unique_ptr<depath::Mesh> mesh;
+  std::unique_ptr<depath::FastMarchingStencils> stencils;
+  std::vector<double> density;
+};
+
+Fixture& fixture(const std::string& name) {
+  static std::map<std::string, Fixture> cache;
+  Fixture& f = cache[name];
+  if (!f.mesh) {
+    f.mesh = std::make_unique<depath::Mesh>(depath::load_mesh(shared_mesh(name)));
+    f.stencils = std::make_unique<depath::FastMarchingStencils>(*f.mesh);
+    // A DE-like random density in (0, 1].
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(1e-9, 1.0);
+    f.density.resize(f.mesh->num_vertices());
+    for (double& d : f.density) d = u(rng);
+  }
+  return f;
+}
+
+void full_march(benchmark::State& state, std::string name) {
+  Fixture& f = fixture(name);
+  depath::FastMarching fm(*f.stencils);
+  for (auto _ : state) {
+    fm.run(f.density, 0);
+    benchmark::DoNotOptimize(fm.value(f.mesh->num_vertices() - 1));
+  }
+  state.counters["vertices"] = f.mesh->num_vertices();
+  state.counters["vertices/s"] =
+      benchmark::Counter(double(f.mesh->num_vertices()) * state.iterations(), benchmark::Counter::kIsRate);
+}
+
+void decode_to_target(benchmark::State& state, std::string name, bool uniform) {
+  Fixture& f = fixture(name);
+  depath::PathDecoder decoder(*f.stencils);
+  depath::EnergySpec spec;
+  if (!uniform) spec.density = f.density;
+  const auto energy = depath::make_energy(*f.mesh, spec);
+  const std::vector<double> ones(f.mesh->num_vertices(), 1.0);
+  const std::vector<double>& rho = uniform ? ones : f.density;
+  depath::SurfacePath path;
+  // A far-away target: the last vertex of the file's main component.
+  const int source = 0;
+  int target = f.mesh->num_vertices() - 1;
+  while (target > 0 && (f.mesh->component(target) != f.mesh->component(source) || !f.mesh->is_referenced(target)))
+    --target;
+  double e = 0;
+  for (auto _ : state) {
+    decoder.decode(rho, source, target, path);
+    e = energy->evaluate(path);
+    benchmark::DoNotOptimize(e);
+  }
+  state.counters["path_points"] = double(path.points.size());
+  state.counters["marched"] = decoder.fast_marching().num_final();
+}
+
+int register_all() {
+  if (!std::filesystem::exists(shared_mesh("kitten.off"))) return 0;
+  for (const char* m : kMeshes) {
+    benchmark::RegisterBenchmark((std::string("full_march/") + m).c_str(), full_march, std::string(m))
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark((std::string("decode_uniform/") + m).c_str(), decode_to_target, std::string(m), true)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark((std::string("decode_random/") + m).c_str(), decode_to_target, std::string(m), false)
+        ->Unit(benchmark::kMillisecond);
+  }
+  return 0;
+}
+const int registered = register_all();
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -12,6 +12,10 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "depath 0.1.0");
   depath::cli::add_solve_command(app);
+  depath::cli::add_generate_command(app);
+#ifdef DEPATH_WITH_REMOTE
+  depath::cli::add_remote_commands(app);
+#endif
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,202 @@
+#include "remote_client.hpp"
+
+#include "depath/wire/wire.hpp"
+
+#include <grpcpp/create_channel.h>
+#include <grpcpp/security/credentials.h>
+#include <grpcpp/support/channel_arguments.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <thread>
+
+namespace depath::cli {
+
+namespace {
+
+ErrorCode error_code_of(grpc::StatusCode code) {
+  switch (code) {
+    case grpc::StatusCode::INVALID_ARGUMENT:
+    case grpc::StatusCode::ALREADY_EXISTS:
+    case grpc::StatusCode::UNAUTHENTICATED:
+    case grpc::StatusCode::PERMISSION_DENIED:
+    case grpc::StatusCode::OUT_OF_RANGE: return ErrorCode::invalid_argument;
+    case grpc::StatusCode::NOT_FOUND: return ErrorCode::not_found;
+    case grpc::StatusCode::FAILED_PRECONDITION: return ErrorCode::failed_precondition;
+    case grpc::StatusCode::RESOURCE_EXHAUSTED: return ErrorCode::resource_exhausted;
+    case grpc::StatusCode::CANCELLED: return ErrorCode::cancelled;
+    case grpc::StatusCode::UNAVAILABLE:
+    case grpc::StatusCode::DEADLINE_EXCEEDED: return ErrorCode::unavailable;
+    default: return ErrorCode::internal;
+  }
+}
+
+bool retryable(grpc::StatusCode code) {
+  return code == grpc::StatusCode::UNAVAILABLE || code == grpc::StatusCode::DEADLINE_EXCEEDED ||
+         code == grpc::StatusCode::UNKNOWN || code == grpc::StatusCode::INTERNAL;
+}
+
+constexpr size_t kChunkBytes = 1 << 20;
+constexpr double kReconnectSeconds = 60;
+
+}  // namespace
+
+RemoteError::RemoteError(grpc::StatusCode code, const std::string& message)
+    : Error(error_code_of(code), message), status_code_(code) {}
+
+void add_remote_options(CLI::App& cmd, RemoteOptions& o) {
+  if (const char* env = std::getenv("DEPATH_SERVER"); env && *env) o.server = env;
+  if (const char* env = std::getenv("DEPATH_TOKEN"); env && *env) o.token = env;
+  cmd.add_option("--server", o.server,
+                 "Server address host:port, or dns:///host:port to balance over all its addresses (env DEPATH_SERVER)")
+      ->capture_default_str();
+  cmd.add_option("--token", o.token, "Auth token sent as 'authorization: Bearer TOKEN' (env DEPATH_TOKEN)");
+  cmd.add_option("--connect-timeout", o.connect_timeout_seconds, "Seconds to wait for the server")
+      ->capture_default_str();
+}
+
+std::string read_file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorCode::invalid_argument, "cannot open '" + path + "'");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(ErrorCode::invalid_argument, "cannot read '" + path + "'");
+  return bytes;
+}
+
+RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(-1);
+  args.SetMaxSendMessageSize(-1);
+  // Notice a dead connection during a long watch.
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 30000);
+  args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
+  if (options.server.rfind("dns:", 0) == 0) args.SetLoadBalancingPolicyName("round_robin");
+  channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  meshes_ = v1::MeshService::NewStub(channel_);
+  jobs_ = v1::JobService::NewStub(channel_);
+}
+
+std::unique_ptr<grpc::ClientContext> RemoteClient::context(double timeout_seconds) const {
+  auto ctx = std::make_unique<grpc::ClientContext>();
+  if (!options_.token.empty()) ctx->AddMetadata("authorization", "Bearer " + options_.token);
+  if (timeout_seconds > 0) {
+    ctx->set_deadline(std::chrono::system_clock::now() +
+                      std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                          std::chrono::duration<double>(timeout_seconds)));
+  }
+  ctx->set_wait_for_ready(false);
+  return ctx;
+}
+
+void RemoteClient::check(const grpc::Status& status, const std::string& doing) const {
+  if (status.ok()) return;
+  std::string message = doing + ": " + wire::status_code_name(status.error_code()) + ": " + status.error_message();
+  if (status.error_code() == grpc::StatusCode::UNAVAILABLE && status.error_message().find("shutting down") == std::string::npos) {
+    message = doing + ": cannot reach the server at " + options_.server + " (" + status.error_message() + ")";
+  }
+  throw RemoteError(status.error_code(), message);
+}
+
+v1::MeshInfo RemoteClient::upload(const std::string& path) {
+  const std::string bytes = read_file_bytes(path);
+  auto ctx = context();
+  ctx->set_wait_for_ready(true);
+  ctx->set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(600));
+  v1::MeshInfo info;
+  auto writer = meshes_->UploadMesh(ctx.get(), &info);
+  v1::UploadMeshRequest request;
+  auto* header = request.mutable_header();
+  header->set_file_name(std::filesystem::path(path).filename().string());
+  header->set_size_bytes(bytes.size());
+  bool ok = writer->Write(request);
+  for (size_t offset = 0; ok && offset < bytes.size(); offset += kChunkBytes) {
+    request.Clear();
+    request.set_chunk(bytes.substr(offset, kChunkBytes));
+    ok = writer->Write(request);
+  }
+  if (ok) writer->WritesDone();
+  check(writer->Finish(), "uploading " + path);
+  return info;
+}
+
+v1::MeshInfo RemoteClient::ensure_mesh(const std::string& path, bool* uploaded) {
+  const std::string id = wire::sha256_hex(read_file_bytes(path));
+  auto ctx = context(options_.connect_timeout_seconds);
+  ctx->set_wait_for_ready(true);
+  v1::GetMeshRequest request;
+  request.set_id(id);
+  v1::MeshInfo info;
+  grpc::Status status = meshes_->GetMesh(ctx.get(), request, &info);
+  if (status.ok()) {
+    if (uploaded) *uploaded = false;
+    return info;
+  }
+  if (status.error_code() != grpc::StatusCode::NOT_FOUND) check(status, "looking up mesh " + id);
+  if (uploaded) *uploaded = true;
+  return upload(path);
+}
+
+v1::JobEvent RemoteClient::watch(const std::string& job_id, uint64_t after_sequence,
+                                 const std::function<void(const v1::JobEvent&)>& on_event,
+                                 const std::atomic<bool>* cancel_requested) {
+  uint64_t cursor = after_sequence;
+  auto give_up_at = std::chrono::steady_clock::now() + std::chrono::duration<double>(kReconnectSeconds);
+  double backoff = 0.2;
+  std::atomic<bool> done{false};
+  std::thread canceller;
+  if (cancel_requested) {
+    canceller = std::thread([&] {
+      while (!done.load()) {
+        if (cancel_requested->load()) {
+          auto ctx = context(10);
+          v1::CancelJobRequest req;
+          req.set_job_id(job_id);
+          v1::JobInfo info;
+          jobs_->CancelJob(ctx.get(), req, &info);  // the watch reports the outcome
+          return;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      }
+    });
+  }
+  struct Joiner {
+    std::atomic<bool>& done;
+    std::thread& t;
+    ~Joiner() {
+      done = true;
+      if (t.joinable()) t.join();
+    }
+  } joiner{done, canceller};
+
+  for (;;) {
+    auto ctx = context();  // fails fast while the server is unreachable; we retry below
+    v1::WatchJobRequest request;
+    request.set_job_id(job_id);
+    request.set_after_sequence(cursor);
+    auto reader = jobs_->WatchJob(ctx.get(), request);
+    v1::JobEvent event;
+    std::optional<v1::JobEvent> terminal;
+    while (reader->Read(&event)) {
+      cursor = event.sequence();
+      backoff = 0.2;
+      give_up_at = std::chrono::steady_clock::now() + std::chrono::duration<double>(kReconnectSeconds);
+      on_event(event);
+      if (event.has_state() && wire::is_terminal(event.state().state())) terminal = event;
+    }
+    const grpc::Status status = reader->Finish();
+    if (terminal) return *terminal;
+    if (!status.ok() && !retryable(status.error_code())) check(status, "watching job " + job_id);
+    if (std::chrono::steady_clock::now() > give_up_at) {
+      check(status.ok() ? grpc::Status(grpc::StatusCode::UNAVAILABLE, "stream ended early") : status,
+            "watching job " + job_id + " (gave up reconnecting)");
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(backoff));
+    backoff = std::min(2.0, backoff * 2);
+  }
+}
+
+}  // namespace depath::cli

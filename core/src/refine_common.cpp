@@ -1,5 +1,6 @@
 #include "refine_common.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace depath::refine {
@@ -49,6 +50,34 @@ int Evaluator::best_common_face(const SurfacePoint& a, const SurfacePoint& b, in
     }
   }
   return best;
+}
+
+double replacement_delta(Evaluator& eval, const SurfacePath& path, int first, int last,
+                         const std::vector<SurfacePoint>& points, const std::vector<int>& faces) {
+  const int n = static_cast<int>(path.points.size());
+  const double before = eval.window(path, first - 1, last + 1);
+  // A local path: one extra point on each side, so that the smoothness terms at the
+  // window's ends see their true neighbours.
+  const int lo = std::max(0, first - 2), hi = std::min(n - 1, last + 2);
+  SurfacePath local;
+  local.points.assign(path.points.begin() + lo, path.points.begin() + first);
+  local.points.insert(local.points.end(), points.begin(), points.end());
+  local.points.insert(local.points.end(), path.points.begin() + last + 1, path.points.begin() + hi + 1);
+  local.segment_faces.assign(path.segment_faces.begin() + lo, path.segment_faces.begin() + (first - 1));
+  local.segment_faces.insert(local.segment_faces.end(), faces.begin(), faces.end());
+  local.segment_faces.insert(local.segment_faces.end(), path.segment_faces.begin() + last + 1,
+                             path.segment_faces.begin() + hi);
+  const int a = first - 1 - lo;
+  const double after = eval.window(local, a, a + static_cast<int>(points.size()) + 1);
+  return after - before;
+}
+
+void apply_replacement(SurfacePath& path, int first, int last, const std::vector<SurfacePoint>& points,
+                       const std::vector<int>& faces) {
+  path.points.erase(path.points.begin() + first, path.points.begin() + last + 1);
+  path.points.insert(path.points.begin() + first, points.begin(), points.end());
+  path.segment_faces.erase(path.segment_faces.begin() + (first - 1), path.segment_faces.begin() + last + 1);
+  path.segment_faces.insert(path.segment_faces.begin() + (first - 1), faces.begin(), faces.end());
 }
 
 bool snap_and_merge(SurfacePath& path) {

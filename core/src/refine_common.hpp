@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 namespace depath::refine {
 
@@ -61,6 +62,17 @@ class Evaluator {
   const Mesh& mesh_;
   int64_t evaluations_ = 0;
 };
+
+/// Energy change (new - old) of replacing the interior points first..last of `path` by
+/// `points`, with `faces` (points.size() + 1 of them) for the segments from point
+/// first - 1 through `points` to point last + 1. first > last inserts. Only the terms
+/// that change are evaluated.
+double replacement_delta(Evaluator& eval, const SurfacePath& path, int first, int last,
+                         const std::vector<SurfacePoint>& points, const std::vector<int>& faces);
+
+/// Applies that replacement.
+void apply_replacement(SurfacePath& path, int first, int last, const std::vector<SurfacePoint>& points,
+                       const std::vector<int>& faces);
 
 /// Clean-up that never changes the geometry of the path: edge points at t <= 0 or
 /// t >= 1 become vertices, and consecutive points at the same location are merged

@@ -60,7 +60,8 @@ SurfacePath refine_path(const Energy& energy, const SurfacePath& input, const Re
     double e = optimize_edge_points(eval, path, current, options.max_newton_iterations, cancelled);
     // Points pushed to an edge end become vertices, where re-routing can act.
     if (snap_and_merge(path)) e = eval.total(path);
-    const int removed = remove_redundant_points(eval, path, e);
+    const int collapsed = collapse_vertex_runs(eval, path, e);
+    const int removed = remove_redundant_points(eval, path, e) + collapsed;
     const int rerouted = reroute_vertices(eval, path, e, cancelled);
     if (removed > 0 || rerouted > 0) snap_and_merge(path);
     // Re-sum from scratch: the window updates above must not drift, and the guarantee

@@ -8,9 +8,13 @@
 namespace depath::refine {
 namespace {
 
-// Finite-difference step in edge parameter units. Large enough that round-off in the
-// second differences (~ 1e-16 / kStep^2 relative) stays far below the curvature.
-constexpr double kStep = 1e-4;
+// Finite-difference steps in edge parameter units: at most kMaxStep, and a small
+// fraction (kRelativeStep) of the point's distance to its neighbours, since the energy
+// bends on that scale (a segment's length is |x|-like near zero). Round-off in second
+// differences stays ~1e-16 / kRelativeStep^2 relative to the curvature.
+constexpr double kMaxStep = 1e-4;
+constexpr double kRelativeStep = 1e-3;
+constexpr double kMinStep = 1e-8;
 
 // Symmetric band matrix with half-bandwidth 2, stored as rows of its lower band:
 // band[i][k] = A(i, i - k).
@@ -123,6 +127,9 @@ class NewtonChain {
           const double decrease = energy - e;
           energy = e;
           if (decrease <= 1e-15 * std::abs(energy)) return energy;
+          // A large shift means a kink (points squeezed against a vertex): further
+          // iterations crawl; the caller's vertex moves resolve it instead.
+          if (shift > 0.0 && decrease <= 1e-9 * std::abs(energy)) return energy;
           break;
         }
       }
@@ -159,7 +166,7 @@ class NewtonChain {
     for (int i = 0; i < k; ++i) {
       t0[i] = path_.points[pts[i]].t;
       // Keep the stencil inside the edge; the Taylor correction below moves it back.
-      center[i] = std::clamp(t0[i], kStep, 1.0 - kStep);
+      center[i] = std::clamp(t0[i], step_[vars[i]], 1.0 - step_[vars[i]]);
     }
     auto at = [&](int i, double di, int j, double dj) {
       for (int m = 0; m < k; ++m) path_.points[pts[m]].t = center[m];
@@ -167,21 +174,23 @@ class NewtonChain {
       if (j >= 0) path_.points[pts[j]].t += dj;
       return value();
     };
-    const double h = kStep;
+    std::array<double, 3> h{};
+    for (int i = 0; i < k; ++i) h[i] = step_[vars[i]];
     const double f0 = at(-1, 0, -1, 0);
     std::array<double, 3> g{};
     std::array<std::array<double, 3>, 3> hess{};
     std::array<double, 3> fp{}, fm{};
     for (int i = 0; i < k; ++i) {
-      fp[i] = at(i, h, -1, 0);
-      fm[i] = at(i, -h, -1, 0);
-      g[i] = (fp[i] - fm[i]) / (2 * h);
-      hess[i][i] = (fp[i] - 2 * f0 + fm[i]) / (h * h);
+      fp[i] = at(i, h[i], -1, 0);
+      fm[i] = at(i, -h[i], -1, 0);
+      g[i] = (fp[i] - fm[i]) / (2 * h[i]);
+      hess[i][i] = (fp[i] - 2 * f0 + fm[i]) / (h[i] * h[i]);
     }
     for (int i = 0; i < k; ++i) {
       for (int j = i + 1; j < k; ++j) {
-        const double fpp = at(i, h, j, h), fpm = at(i, h, j, -h), fmp = at(i, -h, j, h), fmm = at(i, -h, j, -h);
-        hess[i][j] = hess[j][i] = (fpp - fpm - fmp + fmm) / (4 * h * h);
+        const double fpp = at(i, h[i], j, h[j]), fpm = at(i, h[i], j, -h[j]);
+        const double fmp = at(i, -h[i], j, h[j]), fmm = at(i, -h[i], j, -h[j]);
+        hess[i][j] = hess[j][i] = (fpp - fpm - fmp + fmm) / (4 * h[i] * h[j]);
       }
     }
     for (int m = 0; m < k; ++m) path_.points[pts[m]].t = t0[m];
@@ -198,6 +207,17 @@ class NewtonChain {
 
   void derivatives() {
     const int n = static_cast<int>(points_.size());
+    const Mesh& mesh = eval_.mesh();
+    step_.resize(n);
+    for (int v = 0; v < n; ++v) {
+      const int i = points_[v];
+      const SurfacePoint& p = path_.points[i];
+      const Vec3 x = p.position(mesh);
+      const double edge = (mesh.position(p.v1) - mesh.position(p.v0)).norm();
+      const double near = std::min((x - path_.points[i - 1].position(mesh)).norm(),
+                                   (x - path_.points[i + 1].position(mesh)).norm());
+      step_[v] = edge > 0.0 ? std::clamp(kRelativeStep * near / edge, kMinStep, kMaxStep) : kMaxStep;
+    }
     gradient_.assign(n, 0.0);
     hessian_.assign(n, BandRow{0.0, 0.0, 0.0});
     const int np = static_cast<int>(path_.points.size());
@@ -217,6 +237,7 @@ class NewtonChain {
   SurfacePath& path_;
   std::vector<int> var_of_point_;
   std::vector<int> points_;
+  std::vector<double> step_;
   std::vector<double> gradient_;
   std::vector<BandRow> hessian_;
 };

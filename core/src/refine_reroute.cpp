@@ -140,6 +140,61 @@ int remove_redundant_points(Evaluator& eval, SurfacePath& path, double& energy) 
   return removed;
 }
 
+int collapse_vertex_runs(Evaluator& eval, SurfacePath& path, double& energy) {
+  int collapsed = 0;
+  std::vector<SurfacePoint> replacement;
+  std::vector<int> faces;
+  for (int i = 1; i + 1 < static_cast<int>(path.points.size()); ++i) {
+    if (path.points[i].is_vertex()) continue;
+    int best_v = -1, best_last = -1;
+    double best_delta = 0.0;
+    for (const int v : {path.points[i].v0, path.points[i].v1}) {
+      // Every run i..last of points on edges around v (a path may pass v with only
+      // part of the run belonging at v).
+      for (int last = i; last + 1 < static_cast<int>(path.points.size()); ++last) {
+        const SurfacePoint& p = path.points[last];
+        if (p.is_vertex() || (p.v0 != v && p.v1 != v)) break;
+        const SurfacePoint& a = path.points[i - 1];
+        const SurfacePoint& b = path.points[last + 1];
+        // The faces of the run's outer segments contain v: a -> v -> b stays on them.
+        // Where a or b is v itself the run is simply dropped.
+        replacement.clear();
+        const bool a_is_v = a.is_vertex() && a.v0 == v, b_is_v = b.is_vertex() && b.v0 == v;
+        if (a_is_v) {
+          faces = {path.segment_faces[last]};
+        } else if (b_is_v) {
+          faces = {path.segment_faces[i - 1]};
+        } else {
+          replacement.push_back(SurfacePoint::at_vertex(v));
+          faces = {path.segment_faces[i - 1], path.segment_faces[last]};
+        }
+        const double delta = replacement_delta(eval, path, i, last, replacement, faces);
+        if (delta <= best_delta && (best_v < 0 || delta < best_delta)) {
+          best_delta = delta;
+          best_v = v;
+          best_last = last;
+        }
+      }
+    }
+    if (best_v < 0) continue;
+    const SurfacePoint a = path.points[i - 1], b = path.points[best_last + 1];
+    const bool a_is_v = a.is_vertex() && a.v0 == best_v, b_is_v = b.is_vertex() && b.v0 == best_v;
+    replacement.clear();
+    if (a_is_v) {
+      faces = {path.segment_faces[best_last]};
+    } else if (b_is_v) {
+      faces = {path.segment_faces[i - 1]};
+    } else {
+      replacement.push_back(SurfacePoint::at_vertex(best_v));
+      faces = {path.segment_faces[i - 1], path.segment_faces[best_last]};
+    }
+    apply_replacement(path, i, best_last, replacement, faces);
+    energy += best_delta;
+    ++collapsed;
+  }
+  return collapsed;
+}
+
 int reroute_vertices(Evaluator& eval, SurfacePath& path, double& energy, const std::function<bool()>& cancelled) {
   const Mesh& mesh = eval.mesh();
   int rerouted = 0;

@@ -11,6 +11,13 @@ namespace depath::refine {
 /// Returns the number of points dropped; `energy` is updated.
 int remove_redundant_points(Evaluator& eval, SurfacePath& path, double& energy);
 
+/// Replaces runs of consecutive edge points that all lie on edges around one vertex v
+/// by v itself, when that does not raise the energy. This is where a path that hugs a
+/// vertex ends up (the optimum passes through v); the points only approach v
+/// asymptotically under smooth optimisation, whose finite differences break down there.
+/// Returns the number of runs collapsed; `energy` is updated.
+int collapse_vertex_runs(Evaluator& eval, SurfacePath& path, double& energy);
+
 /// At each interior vertex v of the path (previous point a, next point b), tries the
 /// route a -> b through the fan of faces around v on either side whose surface angle
 /// (from a to b, measured at v) is below pi: the path then crosses the edges (v, w) of

@@ -36,7 +36,7 @@ Vec3 place(int up_axis, double u, double v, double h) {
 GridHeight parse_grid_height(std::string_view name) {
   if (name == "flat") return GridHeight::flat;
   if (name == "peaks") return GridHeight::peaks;
-  throw Error(ErrorCode::invalid_argument, "unknown grid height '" + std::string(name) + "' (expected flat or peaks)");
+  throw Error(ErrorCode::invalid_argument, "unknown grid terrain '" + std::string(name) + "' (expected flat or peaks)");
 }
 
 GridDiagonals parse_grid_diagonals(std::string_view name) {

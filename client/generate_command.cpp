@@ -23,6 +23,7 @@ struct OutputOptions {
   std::string field_out;
   std::string field = "rotation";
   double rotate_degrees = 0.0;
+  double converge_length = 1.0;
 };
 
 void add_output_options(CLI::App& cmd, OutputOptions& o) {
@@ -33,8 +34,10 @@ void add_output_options(CLI::App& cmd, OutputOptions& o) {
                  "Also write a per-vertex field ('x y z' per line, for solve --field)");
   cmd.add_option("--field", o.field,
                  "Field for --field-out: rotation (circles around the up axis through the origin), "
-                 "converge (towards that axis) or height (height gradient, see --rotate)")
+                 "converge ((1, -v / L) in plane coordinates (u, v): field lines v0 exp(-u / L) "
+                 "converging towards v = 0) or height (height gradient, see --rotate)")
       ->capture_default_str();
+  cmd.add_option("--converge-length", o.converge_length, "L of the converge field")->capture_default_str();
   cmd.add_option("--rotate", o.rotate_degrees, "Rotate the height field in the tangent plane (degrees)")
       ->capture_default_str();
 }
@@ -59,7 +62,7 @@ void emit(const Mesh& mesh, const OutputOptions& o, int up_axis) {
   if (o.field == "rotation") {
     field = rotation_field(mesh, Vec3::Zero(), up_axis);
   } else if (o.field == "converge") {
-    field = converge_field(mesh, Vec3::Zero(), up_axis);
+    field = converge_field(mesh, Vec3::Zero(), up_axis, o.converge_length);
   } else if (o.field == "height") {
     field = height_gradient_field(mesh, up_axis, o.rotate_degrees);
   } else {

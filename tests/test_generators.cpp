@@ -335,15 +335,19 @@ TEST(TangentFields, RotationAndConvergeFields) {
   o.n = 5;
   o.half_size = 1.0;
   const Mesh mesh = make_grid(o);
-  const Vec3 centre(0.5, 0.0, 0.0);
-  const auto rot = rotation_field(mesh, centre, 2);
-  const auto conv = converge_field(mesh, centre, 2);
+  const Vec3 origin(0.5, 0.0, 0.0);
+  const auto rot = rotation_field(mesh, origin, 2);
+  const auto conv = converge_field(mesh, origin, 2, 2.0);
   for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec3 r = mesh.position(v) - centre;
+    const Vec3 r = mesh.position(v) - origin;
     EXPECT_NEAR((rot[v] - Vec3(-r.y(), r.x(), 0)).norm(), 0.0, 1e-15);
-    EXPECT_NEAR((conv[v] + r).norm(), 0.0, 1e-15);
+    EXPECT_NEAR((conv[v] - Vec3(1.0, -r.y() / 2.0, 0)).norm(), 0.0, 1e-15);
   }
-  EXPECT_EQ(rot[2 * 5 + 3], Vec3::Zero());  // (0.5, 0) is the centre
+  EXPECT_EQ(rot[2 * 5 + 3], Vec3::Zero());  // (0.5, 0) is the origin
+  // Up axis y: plane coordinates (u, v) = (z, x).
+  const auto conv_y = converge_field(mesh, Vec3::Zero(), 1, 1.0);
+  EXPECT_EQ(conv_y[0], Vec3(1.0, 0.0, 1.0));  // vertex 0 at x = -1: v = -1
+  EXPECT_THROW(converge_field(mesh, origin, 2, 0.0), Error);
 }
 
 }  // namespace

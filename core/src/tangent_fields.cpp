@@ -121,21 +121,25 @@ std::vector<Vec3> scalar_gradient_field(const Mesh& mesh, const std::vector<doub
   return face_to_vertex_field(mesh, rotate_face_vectors(mesh, face_gradients(mesh, scalar), radians));
 }
 
-std::vector<Vec3> rotation_field(const Mesh& mesh, const Vec3& centre, int up_axis) {
+std::vector<Vec3> rotation_field(const Mesh& mesh, const Vec3& origin, int up_axis) {
   check_axis(up_axis);
   const Vec3 up = axis_vector(up_axis);
   std::vector<Vec3> out(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) out[v] = up.cross(mesh.position(v) - centre);
+  for (int v = 0; v < mesh.num_vertices(); ++v) out[v] = up.cross(mesh.position(v) - origin);
   return out;
 }
 
-std::vector<Vec3> converge_field(const Mesh& mesh, const Vec3& centre, int up_axis) {
+std::vector<Vec3> converge_field(const Mesh& mesh, const Vec3& origin, int up_axis, double length) {
   check_axis(up_axis);
+  if (!std::isfinite(length) || !(length > 0.0))
+    throw Error(ErrorCode::invalid_argument, "converge field length must be finite and > 0");
+  const int u_axis = (up_axis + 1) % 3, v_axis = (up_axis + 2) % 3;
   std::vector<Vec3> out(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) {
-    Vec3 d = centre - mesh.position(v);
-    d[up_axis] = 0.0;
-    out[v] = d;
+    Vec3 f = Vec3::Zero();
+    f[u_axis] = 1.0;
+    f[v_axis] = -(mesh.position(v)[v_axis] - origin[v_axis]) / length;
+    out[v] = f;
   }
   return out;
 }

@@ -46,13 +46,15 @@ std::vector<Vec3> height_gradient_field(const Mesh& mesh, int up_axis, double ro
 /// Same for any per-vertex scalar.
 std::vector<Vec3> scalar_gradient_field(const Mesh& mesh, const std::vector<double>& scalar, double rotate_degrees);
 
-/// Analytic fields of the paper's vector-field experiments, per vertex (both linear in the
-/// position, so their linear interpolation inside faces is exact on planar meshes):
-///  - rotation: up x (p - centre): tangent of the circles around the axis through `centre`
-///    along `up_axis` (counter-clockwise seen from above); vanishes on the axis.
-///  - converge: centre - p projected onto the plane normal to `up_axis`: points towards the
-///    axis through `centre`; its field lines are the rays from the axis; vanishes on it.
-std::vector<Vec3> rotation_field(const Mesh& mesh, const Vec3& centre, int up_axis);
-std::vector<Vec3> converge_field(const Mesh& mesh, const Vec3& centre, int up_axis);
+/// Analytic fields of the paper's vector-field experiments, per vertex. Both are linear in
+/// the position, so their linear interpolation inside faces is exact on planar meshes.
+/// (u, v) are plane coordinates relative to `origin` along the two axes after `up_axis` in
+/// cyclic order (z up: u = x, v = y), as in the surface generators.
+///  - rotation: up x (p - origin) = (-v, u): tangent of the circles around the up axis
+///    through `origin` (counter-clockwise seen from above); vanishes on that axis.
+///  - converge: (1, -v / length): a flow along +u pulled towards the line v = 0; its field
+///    lines v = v0 exp(-u / length) converge towards that line. `length` > 0.
+std::vector<Vec3> rotation_field(const Mesh& mesh, const Vec3& origin, int up_axis);
+std::vector<Vec3> converge_field(const Mesh& mesh, const Vec3& origin, int up_axis, double length);
 
 }  // namespace depath

@@ -1,0 +1,222 @@
+// The real binaries: depathd started as a process, driven by the `depath` client.
+#include "service_test_support.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace depath::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CommandResult {
+  int rc = -1;
+  std::string output;  // stdout and stderr
+};
+
+CommandResult run_command(const std::string& command) {
+  CommandResult r;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (!pipe) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, pipe)) > 0) r.output.append(buf, n);
+  const int status = ::pclose(pipe);
+  r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// depathd as a child process on 127.0.0.1 with a free port.
+class Daemon {
+ public:
+  explicit Daemon(const fs::path& dir, std::vector<std::string> extra = {}) {
+    const fs::path port_file = dir / "port";
+    fs::remove(port_file);
+    log_ = dir / "depathd.log";
+    std::vector<std::string> args = {DEPATHD_BIN, "--listen", "127.0.0.1:0", "--port-file", port_file.string(),
+                                     "--threads", "2", "--shutdown-timeout-seconds", "5"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      FILE* f = std::freopen(log_.c_str(), "w", stderr);
+      (void)f;
+      std::vector<char*> argv;
+      for (auto& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execv(argv[0], argv.data());
+      std::_Exit(127);
+    }
+    for (int i = 0; i < 1000 && !fs::exists(port_file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    port_ = std::stoi(read_text(port_file));
+  }
+  ~Daemon() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
+  /// SIGTERM, then waits; returns the exit status and the seconds it took.
+  std::pair<int, double> terminate() {
+    const auto t0 = std::chrono::steady_clock::now();
+    ::kill(pid_, SIGTERM);
+    int status = 0;
+    ::waitpid(pid_, &status, 0);
+    pid_ = -1;
+    return {WIFEXITED(status) ? WEXITSTATUS(status) : -1,
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
+  }
+  std::string log() const { return read_text(log_); }
+
+ private:
+  pid_t pid_ = -1;
+  int port_ = 0;
+  fs::path log_;
+};
+
+class BinaryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("depath_bin_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    mesh_ = (dir_ / "grid.obj").string();
+    std::ofstream(mesh_) << grid_obj(20);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string client(const std::string& args, const Daemon& d) const {
+    return std::string(DEPATH_BIN) + " " + args + " --server " + d.address();
+  }
+  fs::path dir_;
+  std::string mesh_;
+};
+
+TEST_F(BinaryTest, HelpListsEveryLimit) {
+  const auto r = run_command(std::string(DEPATHD_BIN) + " --help");
+  EXPECT_EQ(r.rc, 0);
+  for (const char* flag : {"--listen", "--threads", "--max-running-jobs", "--max-queued-jobs", "--mesh-cache-bytes",
+                           "--max-upload-bytes", "--max-message-bytes", "--job-ttl-seconds",
+                           "--shutdown-timeout-seconds", "--data-dir", "--auth-token", "--log-format"}) {
+    EXPECT_NE(r.output.find(flag), std::string::npos) << flag;
+  }
+  const auto bad = run_command(std::string(DEPATHD_BIN) + " --max-running-jobs 0 --listen 127.0.0.1:0");
+  EXPECT_NE(bad.rc, 0);
+  EXPECT_NE(bad.output.find("--max-running-jobs"), std::string::npos) << bad.output;
+}
+
+TEST_F(BinaryTest, ClientCommandsEndToEnd) {
+  Daemon d(dir_, {"--log-format", "json"});
+  auto r = run_command(client("health", d));
+  EXPECT_EQ(r.rc, 0) << r.output;
+  EXPECT_NE(r.output.find("SERVING"), std::string::npos);
+
+  r = run_command(client("upload " + mesh_, d));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_NE(r.output.find(wire::sha256_hex(grid_obj(20))), std::string::npos) << r.output;
+  r = run_command(client("upload " + mesh_, d));
+  EXPECT_NE(r.output.find("already on the server"), std::string::npos) << r.output;
+
+  // run == solve, written by the same writers.
+  const std::string job_flags = " -s 0 -t 399 --method de --population 8 --generations 15 --seed 3";
+  r = run_command(client("run " + mesh_ + job_flags + " --out " + (dir_ / "run.json").string(), d));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  r = run_command(std::string(DEPATH_BIN) + " solve " + mesh_ + job_flags + " --out " + (dir_ / "solve.json").string());
+  ASSERT_EQ(r.rc, 0) << r.output;
+  const auto run_json = nlohmann::json::parse(read_text(dir_ / "run.json"));
+  const auto solve_json = nlohmann::json::parse(read_text(dir_ / "solve.json"));
+  EXPECT_EQ(run_json["points"], solve_json["points"]);
+  EXPECT_EQ(run_json["crossings"], solve_json["crossings"]);
+  EXPECT_EQ(run_json["energy"], solve_json["energy"]);
+
+  // submit / watch / result without the mesh file / jobs / cancel.
+  r = run_command(client("submit " + mesh_ + job_flags, d));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  std::string job = r.output.substr(0, r.output.find('\n'));
+  r = run_command(client("watch " + job + " --json", d));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_NE(r.output.find("\"state\":\"succeeded\""), std::string::npos) << r.output;
+  r = run_command(client("result " + job + " --out " + (dir_ / "remote.json").string(), d));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  const auto remote_json = nlohmann::json::parse(read_text(dir_ / "remote.json"));
+  EXPECT_EQ(remote_json["points"], solve_json["points"]);
+  EXPECT_EQ(remote_json["crossings"], solve_json["crossings"]);
+  r = run_command(client("result " + job + " --out " + (dir_ / "remote.csv").string(), d));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  EXPECT_NE(read_text(dir_ / "remote.csv").find("index,x,y,z"), std::string::npos);
+  r = run_command(client("jobs", d));
+  EXPECT_EQ(r.rc, 0);
+  EXPECT_NE(r.output.find(job), std::string::npos);
+  r = run_command(client("cancel " + job, d));
+  EXPECT_EQ(r.rc, 0) << r.output;
+
+  // Errors exit non-zero with the server's message.
+  r = run_command(client("run " + mesh_ + " -s 0 -t 0", d));
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.output.find("INVALID_ARGUMENT"), std::string::npos) << r.output;
+  r = run_command(client("result job-unknown", d));
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.output.find("NOT_FOUND"), std::string::npos) << r.output;
+  const auto [rc, seconds] = d.terminate();
+  EXPECT_EQ(rc, 0);
+  EXPECT_NE(d.log().find("\"event\":\"job.finished\""), std::string::npos);
+}
+
+TEST_F(BinaryTest, AuthToken) {
+  Daemon d(dir_, {"--auth-token", "tok"});
+  auto r = run_command(client("jobs", d));
+  EXPECT_EQ(r.rc, 2);
+  EXPECT_NE(r.output.find("UNAUTHENTICATED"), std::string::npos) << r.output;
+  r = run_command(client("jobs --token tok", d));
+  EXPECT_EQ(r.rc, 0) << r.output;
+  r = run_command(client("health", d));
+  EXPECT_EQ(r.rc, 0) << r.output;
+}
+
+TEST_F(BinaryTest, SigtermMidJobEndsWatchersAndExitsPromptly) {
+  Daemon d(dir_);
+  auto r = run_command(client("submit " + mesh_ + " -s 0 -t 399 --population 10 --generations 1000000", d));
+  ASSERT_EQ(r.rc, 0) << r.output;
+  const std::string job = r.output.substr(0, r.output.find('\n'));
+  // A watcher in the background.
+  const fs::path watch_out = dir_ / "watch.txt";
+  const fs::path watch_rc = dir_ / "watch.rc";
+  std::thread watcher([&] {
+    const auto w = run_command(client("watch " + job + " --json", d));
+    std::ofstream(watch_out) << w.output;
+    std::ofstream(watch_rc) << w.rc;
+  });
+  // Wait until the job makes progress.
+  for (int i = 0; i < 500; ++i) {
+    r = run_command(client("jobs --json", d));
+    if (r.output.find("\"generation\"") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  const auto [rc, seconds] = d.terminate();
+  watcher.join();
+  EXPECT_EQ(rc, 0) << d.log();
+  EXPECT_LT(seconds, 3.0);
+  const std::string out = read_text(watch_out);
+  EXPECT_NE(out.find("\"state\":\"cancelled\""), std::string::npos) << out;
+  EXPECT_NE(out.find("shutting down"), std::string::npos) << out;
+  EXPECT_EQ(read_text(watch_rc), "130") << out;
+}
+
+}  // namespace
+}  // namespace depath::test

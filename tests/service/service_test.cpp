@@ -1,0 +1,656 @@
+// The service through real gRPC on loopback: an in-process server (depath_service) on
+// 127.0.0.1:0 and generated stubs, no mocks.
+#include "depath/mesh_io.hpp"
+#include "depath/path_io.hpp"
+#include "depath/solve.hpp"
+#include "event_log.hpp"
+#include "grpc/health/v1/health.grpc.pb.h"
+#include "service_test_support.hpp"
+
+#include <atomic>
+#include <set>
+#include <unistd.h>
+#include <filesystem>
+#include <thread>
+
+namespace depath::test {
+namespace {
+
+using grpc::StatusCode;
+
+TEST(ServiceMeshes, UploadGetListDeleteAndDedup) {
+  TestServer ts;
+  const std::string bytes = grid_obj(8);
+  v1::MeshInfo info;
+  ASSERT_TRUE(ts.upload(bytes, "grid.obj", &info, 100).ok());
+  EXPECT_EQ(info.id(), wire::sha256_hex(bytes));
+  EXPECT_EQ(info.num_vertices(), 64);
+  EXPECT_EQ(info.num_faces(), 98);
+  EXPECT_EQ(info.num_boundary_edges(), 28);
+  EXPECT_EQ(info.num_components(), 1);
+  EXPECT_EQ(info.format(), "obj");
+  EXPECT_FALSE(info.already_present());
+  EXPECT_NEAR(info.bounding_box().max().x(), 1.0, 1e-12);
+
+  v1::MeshInfo again;
+  ASSERT_TRUE(ts.upload(bytes, "copy.obj", &again, 1 << 20).ok());
+  EXPECT_EQ(again.id(), info.id());
+  EXPECT_TRUE(again.already_present());
+
+  v1::GetMeshRequest get;
+  get.set_id(info.id());
+  v1::MeshInfo got;
+  {
+    auto ctx = ts.context();
+    ASSERT_TRUE(ts.meshes().GetMesh(ctx.get(), get, &got).ok());
+  }
+  EXPECT_EQ(got.num_vertices(), 64);
+  v1::ListMeshesResponse list;
+  {
+    auto ctx = ts.context();
+    ASSERT_TRUE(ts.meshes().ListMeshes(ctx.get(), {}, &list).ok());
+  }
+  ASSERT_EQ(list.meshes_size(), 1);
+  EXPECT_GT(list.cache_bytes(), 0u);
+
+  v1::DeleteMeshRequest del;
+  del.set_id(info.id());
+  v1::DeleteMeshResponse dr;
+  {
+    auto ctx = ts.context();
+    ASSERT_TRUE(ts.meshes().DeleteMesh(ctx.get(), del, &dr).ok());
+  }
+  auto ctx = ts.context();
+  const auto status = ts.meshes().GetMesh(ctx.get(), get, &got);
+  EXPECT_EQ(status.error_code(), StatusCode::NOT_FOUND);
+  EXPECT_NE(status.error_message().find(info.id()), std::string::npos);
+  auto ctx2 = ts.context();
+  EXPECT_EQ(ts.meshes().DeleteMesh(ctx2.get(), del, &dr).error_code(), StatusCode::NOT_FOUND);
+}
+
+TEST(ServiceMeshes, UploadErrorsNameTheProblem) {
+  auto options = quiet_options();
+  options.max_upload_bytes = 2000;
+  TestServer ts(options);
+  v1::MeshInfo info;
+  auto s = ts.upload(grid_obj(3), "x.obj", &info, 100, /*header=*/false);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("header"), std::string::npos) << s.error_message();
+
+  s = ts.upload(grid_obj(3), "mesh.xyz", &info);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+
+  s = ts.upload(grid_obj(3), "mesh.obj", &info, 100, true, "gltf");
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT);
+  EXPECT_NE(s.error_message().find("gltf"), std::string::npos);
+
+  s = ts.upload("OFF\n3 1 0\n0 0 0\n1 0 nan\n0 1 0\n3 0 1 2\n", "bad.off", &info);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+
+  s = ts.upload("v 0 0 0\nv 1 0 0\n", "nofaces.obj", &info);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+
+  s = ts.upload("", "empty.obj", &info);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT);
+
+  // Oversize: refused while streaming, naming the limit.
+  s = ts.upload(grid_obj(20), "big.obj", &info, 500);
+  EXPECT_EQ(s.error_code(), StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(s.error_message().find("--max-upload-bytes"), std::string::npos) << s.error_message();
+  // ... and from the declared size, before any byte.
+  {
+    auto ctx = ts.context();
+    auto writer = ts.meshes().UploadMesh(ctx.get(), &info);
+    v1::UploadMeshRequest req;
+    req.mutable_header()->set_file_name("big.obj");
+    req.mutable_header()->set_size_bytes(1 << 30);
+    writer->Write(req);
+    writer->WritesDone();
+    EXPECT_EQ(writer->Finish().error_code(), StatusCode::RESOURCE_EXHAUSTED);
+  }
+}
+
+TEST(ServiceMeshes, LruEvictionSparesMeshesInUseAndDataDirReloads) {
+  const auto dir = std::filesystem::temp_directory_path() / ("depath_service_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  auto options = quiet_options();
+  options.mesh_cache_bytes = 1;  // every mesh is over budget: only the newest or in-use stay
+  options.max_running_jobs = 1;
+  options.data_dir = dir.string();
+  std::string a_id;
+  {
+    TestServer ts(options);
+    a_id = ts.upload_ok(grid_obj(30), "a.obj");
+    const std::string job = ts.submit_ok(long_job(a_id, 0, 899));  // pins a
+    const std::string b_id = ts.upload_ok(grid_obj(9), "b.obj");
+    const std::string c_id = ts.upload_ok(grid_obj(10), "c.obj");
+    v1::ListMeshesResponse list;
+    {
+      auto ctx = ts.context();
+      ASSERT_TRUE(ts.meshes().ListMeshes(ctx.get(), {}, &list).ok());
+    }
+    std::set<std::string> cached;
+    for (const auto& m : list.meshes()) {
+      if (m.cached()) cached.insert(m.id());
+    }
+    EXPECT_TRUE(cached.count(a_id)) << "a mesh used by a running job was evicted";
+    EXPECT_TRUE(cached.count(c_id));
+    EXPECT_FALSE(cached.count(b_id));
+    ts.cancel(job);
+    std::vector<v1::JobEvent> events;
+    ASSERT_TRUE(ts.watch(job, 0, &events).ok());
+  }
+  {
+    // A restarted server knows the persisted meshes and reloads them on demand.
+    TestServer ts(options);
+    v1::GetMeshRequest get;
+    get.set_id(a_id);
+    v1::MeshInfo info;
+    auto ctx = ts.context();
+    ASSERT_TRUE(ts.meshes().GetMesh(ctx.get(), get, &info).ok());
+    EXPECT_EQ(info.num_vertices(), 900);
+    EXPECT_TRUE(info.cached());
+  }
+  {
+    // Memory only: an evicted id answers NOT_FOUND.
+    options.data_dir.clear();
+    TestServer ts(options);
+    const std::string x = ts.upload_ok(grid_obj(5), "x.obj");
+    ts.upload_ok(grid_obj(6), "y.obj");
+    v1::GetMeshRequest get;
+    get.set_id(x);
+    v1::MeshInfo info;
+    auto ctx = ts.context();
+    EXPECT_EQ(ts.meshes().GetMesh(ctx.get(), get, &info).error_code(), StatusCode::NOT_FOUND);
+    v1::SubmitJobResponse reply;
+    EXPECT_EQ(ts.submit(job_spec(x, 0, 3), &reply).error_code(), StatusCode::NOT_FOUND);
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ServiceJobs, SubmitErrorsUseTheRightCodes) {
+  TestServer ts;
+  const std::string grid = ts.upload_ok(grid_obj(6));
+  const std::string split = ts.upload_ok(two_components_obj(), "split.obj");
+  v1::SubmitJobResponse reply;
+
+  auto s = ts.submit(job_spec(std::string(64, 'a'), 0, 1), &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::NOT_FOUND) << s.error_message();
+  s = ts.submit(job_spec("", 0, 1), &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+  s = ts.submit(job_spec(grid, 0, 0), &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+  s = ts.submit(job_spec(grid, 0, 36), &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+  EXPECT_NE(s.error_message().find("36"), std::string::npos) << s.error_message();
+  s = ts.submit(job_spec(split, 0, 4), &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::FAILED_PRECONDITION) << s.error_message();
+  auto bad_pop = job_spec(grid, 0, 35, v1::METHOD_DE);
+  bad_pop.mutable_de()->set_population(2);
+  s = ts.submit(bad_pop, &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+  auto zero_gen = job_spec(grid, 0, 35, v1::METHOD_DE);
+  zero_gen.mutable_de()->set_generations(0);
+  s = ts.submit(zero_gen, &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+  auto bad_density = job_spec(grid, 0, 35);
+  bad_density.mutable_energy()->add_density(1.0);
+  s = ts.submit(bad_density, &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+  auto bad_method = job_spec(grid, 0, 35);
+  bad_method.set_method(static_cast<v1::Method>(42));
+  s = ts.submit(bad_method, &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::INVALID_ARGUMENT) << s.error_message();
+
+  v1::JobInfo info;
+  EXPECT_EQ(ts.get_job("job-nope", &info).error_code(), StatusCode::NOT_FOUND);
+  EXPECT_EQ(ts.cancel("job-nope").error_code(), StatusCode::NOT_FOUND);
+  std::vector<v1::JobEvent> events;
+  EXPECT_EQ(ts.watch("job-nope", 0, &events).error_code(), StatusCode::NOT_FOUND);
+  v1::GetResultRequest rr;
+  rr.set_job_id("job-nope");
+  v1::JobResult result;
+  auto ctx = ts.context();
+  EXPECT_EQ(ts.jobs().GetResult(ctx.get(), rr, &result).error_code(), StatusCode::NOT_FOUND);
+}
+
+TEST(ServiceJobs, IdempotentSubmitAndResultOfUnfinishedJob) {
+  auto options = quiet_options();
+  options.max_running_jobs = 1;
+  TestServer ts(options);
+  const std::string grid = ts.upload_ok(grid_obj(20));
+  v1::SubmitJobResponse first, second, third;
+  ASSERT_TRUE(ts.submit(long_job(grid, 0, 399), &first, "req-1").ok());
+  ASSERT_TRUE(ts.submit(long_job(grid, 0, 399), &second, "req-1").ok());
+  EXPECT_EQ(first.job_id(), second.job_id());
+  EXPECT_FALSE(first.existing());
+  EXPECT_TRUE(second.existing());
+  EXPECT_EQ(ts.submit(long_job(grid, 0, 398), &third, "req-1").error_code(), StatusCode::ALREADY_EXISTS);
+
+  v1::GetResultRequest rr;
+  rr.set_job_id(first.job_id());
+  v1::JobResult result;
+  {
+    auto ctx = ts.context();
+    const auto s = ts.jobs().GetResult(ctx.get(), rr, &result);
+    EXPECT_EQ(s.error_code(), StatusCode::FAILED_PRECONDITION) << s.error_message();
+  }
+  ASSERT_TRUE(ts.cancel(first.job_id()).ok());
+  std::vector<v1::JobEvent> events;
+  ASSERT_TRUE(ts.watch(first.job_id(), 0, &events).ok());
+}
+
+TEST(ServiceJobs, AuthTokenRequiredButHealthExempt) {
+  auto options = quiet_options();
+  options.auth_token = "s3cret";
+  TestServer ts(options);
+  v1::MeshInfo info;
+  auto s = ts.upload(grid_obj(4), "g.obj", &info);
+  EXPECT_EQ(s.error_code(), StatusCode::UNAUTHENTICATED);
+  v1::ListJobsResponse jobs;
+  {
+    auto ctx = ts.context();
+    ctx->AddMetadata("authorization", "Bearer wrong");
+    EXPECT_EQ(ts.jobs().ListJobs(ctx.get(), {}, &jobs).error_code(), StatusCode::UNAUTHENTICATED);
+  }
+  std::vector<v1::JobEvent> events;
+  EXPECT_EQ(ts.watch("job-1", 0, &events).error_code(), StatusCode::UNAUTHENTICATED);
+  auto health = grpc::health::v1::Health::NewStub(ts.channel());
+  grpc::health::v1::HealthCheckRequest hreq;
+  grpc::health::v1::HealthCheckResponse hres;
+  {
+    auto ctx = ts.context();
+    ASSERT_TRUE(health->Check(ctx.get(), hreq, &hres).ok());
+    EXPECT_EQ(hres.status(), grpc::health::v1::HealthCheckResponse::SERVING);
+  }
+  ts.token = "s3cret";
+  EXPECT_TRUE(ts.upload(grid_obj(4), "g.obj", &info).ok());
+  auto ctx = ts.context();
+  EXPECT_TRUE(ts.jobs().ListJobs(ctx.get(), {}, &jobs).ok());
+}
+
+/// Runs a job through the server and through depath::solve in-process: same result.
+void expect_same_as_local(TestServer& ts, const std::string& obj, const v1::JobSpec& spec_in) {
+  const std::string id = ts.upload_ok(obj);
+  v1::JobSpec spec = spec_in;
+  spec.set_mesh_id(id);
+  spec.set_path_every(2);
+  const std::string job = ts.submit_ok(spec);
+  std::vector<v1::JobEvent> events;
+  const auto status = ts.watch(job, 0, &events);
+  ASSERT_TRUE(status.ok()) << status.error_message();
+  const auto* terminal = find_terminal(events);
+  ASSERT_NE(terminal, nullptr);
+  ASSERT_EQ(terminal->state().state(), v1::JOB_STATE_SUCCEEDED) << terminal->state().message();
+  const auto* result = find_result(events);
+  ASSERT_NE(result, nullptr);
+  for (size_t i = 1; i < events.size(); ++i) EXPECT_GT(events[i].sequence(), events[i - 1].sequence());
+  EXPECT_EQ(events.front().state().state(), v1::JOB_STATE_QUEUED);
+  int progress = 0, with_path = 0;
+  for (const auto& e : events) {
+    if (e.has_progress()) {
+      ++progress;
+      with_path += e.progress().has_best_path();
+    }
+  }
+  EXPECT_GE(progress, 1);
+  if (spec.method() == v1::METHOD_DE) {
+    EXPECT_GE(with_path, 1);
+  }
+
+  const Mesh mesh = load_mesh_from_bytes(obj, "obj", "grid");
+  const SolveResult local = solve(mesh, wire::job_from_proto(spec));
+  EXPECT_DOUBLE_EQ(result->energy(), local.energy);
+  EXPECT_EQ(result->path().points_size(), static_cast<int>(local.path.points.size()));
+  EXPECT_EQ(result->generations(), local.generations);
+
+  // GetResult gives the same, and it converts back to what `depath solve` writes.
+  v1::GetResultRequest rr;
+  rr.set_job_id(job);
+  v1::JobResult fetched;
+  auto ctx = ts.context();
+  ASSERT_TRUE(ts.jobs().GetResult(ctx.get(), rr, &fetched).ok());
+  EXPECT_EQ(fetched.SerializeAsString(), result->SerializeAsString());
+  const auto with_mesh = wire::result_message_to_json(fetched, &mesh);
+  const auto without_mesh = wire::result_message_to_json(fetched, nullptr);
+  EXPECT_EQ(with_mesh["points"], without_mesh["points"]);
+  EXPECT_EQ(with_mesh["crossings"], without_mesh["crossings"]);
+  EXPECT_EQ(with_mesh["points"], result_to_json(mesh, local)["points"]);
+}
+
+TEST(ServiceJobs, GeodesicDeMatchesLocalSolve) {
+  TestServer ts;
+  expect_same_as_local(ts, grid_obj(10), job_spec("", 0, 99, v1::METHOD_DE));
+}
+
+TEST(ServiceJobs, GeodesicFmmAndDescentMatchLocalSolve) {
+  TestServer ts;
+  expect_same_as_local(ts, grid_obj(10), job_spec("", 3, 96, v1::METHOD_FMM));
+  expect_same_as_local(ts, grid_obj(10), job_spec("", 3, 96, v1::METHOD_DESCENT));
+}
+
+TEST(ServiceJobs, VectorFieldMatchesLocalSolve) {
+  TestServer ts;
+  auto spec = job_spec("", 0, 99, v1::METHOD_DE);
+  spec.mutable_energy()->set_kind(v1::ENERGY_KIND_VECTOR_FIELD);
+  spec.mutable_energy()->set_field_from_height(true);
+  spec.mutable_energy()->set_rotate_degrees(30);
+  expect_same_as_local(ts, grid_obj(10), spec);
+}
+
+TEST(ServiceJobs, ConstantSlopeMatchesLocalSolve) {
+  TestServer ts;
+  auto spec = job_spec("", 0, 99, v1::METHOD_DE);
+  spec.mutable_energy()->set_kind(v1::ENERGY_KIND_CONSTANT_SLOPE);
+  spec.mutable_energy()->set_slope(0.2);
+  spec.mutable_energy()->set_smoothness(0.01);
+  expect_same_as_local(ts, grid_obj(10), spec);
+}
+
+TEST(ServiceJobs, SolveRpcSubmitsAndStreams) {
+  TestServer ts;
+  const std::string id = ts.upload_ok(grid_obj(8));
+  v1::SubmitJobRequest req;
+  *req.mutable_spec() = job_spec(id, 0, 63, v1::METHOD_DE);
+  auto ctx = ts.context();
+  auto reader = ts.jobs().Solve(ctx.get(), req);
+  std::vector<v1::JobEvent> events;
+  v1::JobEvent ev;
+  while (reader->Read(&ev)) events.push_back(ev);
+  ASSERT_TRUE(reader->Finish().ok());
+  ASSERT_FALSE(events.empty());
+  EXPECT_FALSE(events.front().job_id().empty());
+  ASSERT_NE(find_terminal(events), nullptr);
+  EXPECT_EQ(find_terminal(events)->state().state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_NE(find_result(events), nullptr);
+
+  req.mutable_spec()->set_target(0);
+  auto ctx2 = ts.context();
+  auto bad = ts.jobs().Solve(ctx2.get(), req);
+  while (bad->Read(&ev)) {
+  }
+  EXPECT_EQ(bad->Finish().error_code(), StatusCode::INVALID_ARGUMENT);
+}
+
+TEST(ServiceJobs, CancelMidRunStopsPromptly) {
+  TestServer ts;
+  const std::string id = ts.upload_ok(grid_obj(20));
+  const std::string job = ts.submit_ok(long_job(id, 0, 399));
+  // Wait for a few generations through a watch, then cancel from another connection.
+  auto ctx = ts.context();
+  v1::WatchJobRequest req;
+  req.set_job_id(job);
+  auto reader = ts.jobs().WatchJob(ctx.get(), req);
+  v1::JobEvent ev;
+  std::vector<v1::JobEvent> events;
+  std::chrono::steady_clock::time_point cancelled_at{};
+  while (reader->Read(&ev)) {
+    events.push_back(ev);
+    if (ev.has_progress() && ev.progress().generation() >= 3 && cancelled_at == decltype(cancelled_at){}) {
+      cancelled_at = std::chrono::steady_clock::now();
+      ASSERT_TRUE(ts.cancel(job).ok());
+    }
+  }
+  ASSERT_TRUE(reader->Finish().ok());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - cancelled_at).count();
+  EXPECT_LT(seconds, 2.0);
+  const auto* terminal = find_terminal(events);
+  ASSERT_NE(terminal, nullptr);
+  EXPECT_EQ(terminal->state().state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(terminal->state().error_code(), static_cast<int>(StatusCode::CANCELLED));
+  const auto* result = find_result(events);
+  ASSERT_NE(result, nullptr);  // the best path so far
+  EXPECT_EQ(result->stop_reason(), "cancelled");
+  v1::JobInfo info;
+  ASSERT_TRUE(ts.get_job(job, &info).ok());
+  EXPECT_EQ(info.state(), v1::JOB_STATE_CANCELLED);
+  ASSERT_TRUE(ts.cancel(job, &info).ok());  // idempotent
+  EXPECT_EQ(info.state(), v1::JOB_STATE_CANCELLED);
+}
+
+TEST(ServiceJobs, ResumeWatchBySequenceMissesNoStateOrResult) {
+  TestServer ts;
+  const std::string id = ts.upload_ok(grid_obj(10));
+  auto spec = job_spec(id, 0, 99, v1::METHOD_DE);
+  spec.mutable_de()->set_generations(30);
+  const std::string job = ts.submit_ok(spec);
+  std::vector<v1::JobEvent> all;
+  ASSERT_TRUE(ts.watch(job, 0, &all).ok());
+  ASSERT_NE(find_terminal(all), nullptr);
+  const uint64_t last = all.back().sequence();
+  for (uint64_t after : {uint64_t{1}, uint64_t{2}, last / 2, last - 2, last - 1, last}) {
+    std::vector<v1::JobEvent> tail;
+    ASSERT_TRUE(ts.watch(job, after, &tail).ok());
+    for (const auto& e : tail) EXPECT_GT(e.sequence(), after);
+    for (const auto& e : all) {
+      if (e.sequence() > after && !e.has_progress()) {
+        bool found = false;
+        for (const auto& t : tail) found |= t.sequence() == e.sequence();
+        EXPECT_TRUE(found) << "missing event " << e.sequence() << " after " << after;
+      }
+    }
+    if (after < last) {
+      ASSERT_NE(find_terminal(tail), nullptr);
+    } else {
+      EXPECT_TRUE(tail.empty());
+    }
+  }
+}
+
+TEST(ServiceJobs, FiftyWatchersGetTheSameResult) {
+  TestServer ts;
+  const std::string id = ts.upload_ok(grid_obj(16));
+  auto spec = job_spec(id, 0, 255, v1::METHOD_DE);
+  spec.mutable_de()->set_generations(60);
+  spec.mutable_de()->set_population(12);
+  const std::string job = ts.submit_ok(spec);
+  constexpr int kWatchers = 50;
+  std::vector<std::string> results(kWatchers);
+  std::vector<int> states(kWatchers, 0);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < kWatchers; ++i) {
+    threads.emplace_back([&, i] {
+      std::vector<v1::JobEvent> events;
+      if (!ts.watch(job, 0, &events).ok()) return;
+      if (const auto* r = find_result(events)) results[i] = r->SerializeAsString();
+      if (const auto* t = find_terminal(events)) states[i] = t->state().state();
+    });
+  }
+  for (auto& t : threads) t.join();
+  for (int i = 0; i < kWatchers; ++i) {
+    EXPECT_EQ(states[i], v1::JOB_STATE_SUCCEEDED) << "watcher " << i;
+    EXPECT_FALSE(results[i].empty());
+    EXPECT_EQ(results[i], results[0]) << "watcher " << i;
+  }
+}
+
+TEST(ServiceJobs, ConcurrentJobsShareThePool) {
+  auto options = quiet_options();
+  options.max_running_jobs = 3;
+  TestServer ts(options);
+  const std::string id = ts.upload_ok(grid_obj(20));
+  std::vector<std::string> jobs;
+  for (int i = 0; i < 3; ++i) jobs.push_back(ts.submit_ok(long_job(id, i, 399 - i)));
+  // All three run at once and all make progress on the shared pool.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  bool all_progressing = false;
+  while (!all_progressing && std::chrono::steady_clock::now() < deadline) {
+    all_progressing = true;
+    for (const auto& j : jobs) {
+      v1::JobInfo info;
+      ASSERT_TRUE(ts.get_job(j, &info).ok());
+      all_progressing &= info.state() == v1::JOB_STATE_RUNNING && info.last_progress().generation() >= 3;
+    }
+    if (!all_progressing) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  EXPECT_TRUE(all_progressing);
+  v1::ListJobsRequest running;
+  running.add_states(v1::JOB_STATE_RUNNING);
+  v1::ListJobsResponse list;
+  {
+    auto ctx = ts.context();
+    ASSERT_TRUE(ts.jobs().ListJobs(ctx.get(), running, &list).ok());
+  }
+  EXPECT_EQ(list.jobs_size(), 3);
+  for (const auto& j : jobs) ASSERT_TRUE(ts.cancel(j).ok());
+  for (const auto& j : jobs) {
+    std::vector<v1::JobEvent> events;
+    ASSERT_TRUE(ts.watch(j, 0, &events).ok());
+    EXPECT_EQ(find_terminal(events)->state().state(), v1::JOB_STATE_CANCELLED);
+  }
+}
+
+TEST(ServiceJobs, QueueFullAnswersResourceExhausted) {
+  auto options = quiet_options();
+  options.max_running_jobs = 1;
+  options.max_queued_jobs = 1;
+  TestServer ts(options);
+  const std::string id = ts.upload_ok(grid_obj(12));
+  const std::string a = ts.submit_ok(long_job(id, 0, 143));
+  // Wait until a runs so that b is the one queued.
+  for (int i = 0; i < 500; ++i) {
+    v1::JobInfo info;
+    ts.get_job(a, &info);
+    if (info.state() == v1::JOB_STATE_RUNNING) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  const std::string b = ts.submit_ok(long_job(id, 1, 143));
+  v1::JobInfo info;
+  ASSERT_TRUE(ts.get_job(b, &info).ok());
+  EXPECT_EQ(info.state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(info.queue_position(), 1);
+  v1::SubmitJobResponse reply;
+  const auto s = ts.submit(long_job(id, 2, 143), &reply);
+  EXPECT_EQ(s.error_code(), StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(s.error_message().find("--max-queued-jobs"), std::string::npos) << s.error_message();
+  // Cancelling the queued job frees the slot; it never ran.
+  ASSERT_TRUE(ts.cancel(b).ok());
+  std::vector<v1::JobEvent> events;
+  ASSERT_TRUE(ts.watch(b, 0, &events).ok());
+  EXPECT_EQ(find_terminal(events)->state().state(), v1::JOB_STATE_CANCELLED);
+  EXPECT_EQ(find_result(events), nullptr);
+  const std::string c = ts.submit_ok(long_job(id, 2, 143));
+  ts.cancel(c);
+  ts.cancel(a);
+}
+
+TEST(ServiceJobs, FinishedJobsExpireAfterTtl) {
+  auto options = quiet_options();
+  options.job_ttl_seconds = 0.3;
+  TestServer ts(options);
+  const std::string id = ts.upload_ok(grid_obj(6));
+  const std::string job = ts.submit_ok(job_spec(id, 0, 35));
+  std::vector<v1::JobEvent> events;
+  ASSERT_TRUE(ts.watch(job, 0, &events).ok());
+  std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+  v1::JobInfo info;
+  EXPECT_EQ(ts.get_job(job, &info).error_code(), StatusCode::NOT_FOUND);
+}
+
+TEST(ServiceShutdown, MidJobEndsWatchersCleanlyAndRefusesNewWork) {
+  auto ts = std::make_unique<TestServer>();
+  const std::string id = ts->upload_ok(grid_obj(20));
+  const std::string job = ts->submit_ok(long_job(id, 0, 399));
+  const std::string queued_behind = [&] {
+    std::vector<std::string> more;
+    for (int i = 0; i < 3; ++i) more.push_back(ts->submit_ok(long_job(id, i + 1, 399)));
+    return more.back();
+  }();
+  constexpr int kWatchers = 5;
+  std::vector<std::vector<v1::JobEvent>> seen(kWatchers);
+  std::vector<grpc::Status> statuses(kWatchers);
+  std::atomic<int> started{0};
+  std::vector<std::thread> watchers;
+  for (int i = 0; i < kWatchers; ++i) {
+    watchers.emplace_back([&, i] {
+      auto ctx = ts->context();
+      v1::WatchJobRequest req;
+      req.set_job_id(i % 2 ? queued_behind : job);
+      auto reader = ts->jobs().WatchJob(ctx.get(), req);
+      v1::JobEvent ev;
+      bool counted = false;
+      while (reader->Read(&ev)) {
+        seen[i].push_back(ev);
+        if (!counted) {
+          counted = true;
+          ++started;
+        }
+      }
+      statuses[i] = reader->Finish();
+    });
+  }
+  while (started < kWatchers) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_TRUE(ts->server().shutdown());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 3.0);
+  for (auto& t : watchers) t.join();
+  for (int i = 0; i < kWatchers; ++i) {
+    EXPECT_TRUE(statuses[i].ok()) << statuses[i].error_message();
+    const auto* terminal = find_terminal(seen[i]);
+    ASSERT_NE(terminal, nullptr) << "watcher " << i << " got no final event";
+    EXPECT_EQ(terminal->state().state(), v1::JOB_STATE_CANCELLED);
+    EXPECT_EQ(terminal->state().error_code(), static_cast<int>(StatusCode::UNAVAILABLE));
+    EXPECT_NE(terminal->state().message().find("shutting down"), std::string::npos);
+  }
+  // After shutdown nothing is accepted.
+  v1::SubmitJobResponse reply;
+  EXPECT_EQ(ts->submit(job_spec(id, 0, 5), &reply).error_code(), StatusCode::UNAVAILABLE);
+}
+
+TEST(ServiceEvents, SlowWatcherGetsCoalescedProgressButEveryStateChange) {
+  service::EventHub hub;
+  auto log = std::make_shared<service::EventLog>("job-x", hub);
+  auto state = [](v1::JobState s) {
+    v1::JobEvent e;
+    e.mutable_state()->set_state(s);
+    return e;
+  };
+  log->publish(state(v1::JOB_STATE_QUEUED));
+  log->publish(state(v1::JOB_STATE_RUNNING));
+  for (int g = 1; g <= 100; ++g) {
+    v1::JobEvent e;
+    e.mutable_progress()->set_generation(g);
+    log->publish(e);
+  }
+  v1::JobEvent r;
+  r.mutable_result()->set_energy(1.5);
+  log->publish(r);
+  log->publish(state(v1::JOB_STATE_SUCCEEDED));
+  EXPECT_TRUE(log->closed());
+  EXPECT_EQ(log->publish(state(v1::JOB_STATE_FAILED)), 0u);  // nothing after the terminal event
+  // A watcher that only now reads from the start.
+  std::vector<service::EventPtr> got;
+  uint64_t cursor = 0;
+  while (auto e = log->next_after(cursor)) {
+    got.push_back(e);
+    cursor = e->sequence();
+  }
+  // queued, running, the latest progress only (generation 100), result, succeeded.
+  ASSERT_EQ(got.size(), 5u);
+  EXPECT_EQ(got[0]->state().state(), v1::JOB_STATE_QUEUED);
+  EXPECT_EQ(got[1]->state().state(), v1::JOB_STATE_RUNNING);
+  ASSERT_TRUE(got[2]->has_progress());
+  EXPECT_EQ(got[2]->progress().generation(), 100);
+  EXPECT_TRUE(got[3]->has_result());
+  EXPECT_EQ(got[4]->state().state(), v1::JOB_STATE_SUCCEEDED);
+  EXPECT_EQ(got[4]->sequence(), 104u);
+  // Progress still pending when the result has not come yet: the latest only.
+  auto log2 = std::make_shared<service::EventLog>("job-y", hub);
+  log2->publish(state(v1::JOB_STATE_RUNNING));
+  for (int g = 1; g <= 10; ++g) {
+    v1::JobEvent e;
+    e.mutable_progress()->set_generation(g);
+    log2->publish(e);
+  }
+  auto e1 = log2->next_after(0);
+  auto e2 = log2->next_after(e1->sequence());
+  ASSERT_TRUE(e2 && e2->has_progress());
+  EXPECT_EQ(e2->progress().generation(), 10);
+  EXPECT_EQ(log2->next_after(e2->sequence()), nullptr);
+  hub.flush();
+}
+
+}  // namespace
+}  // namespace depath::test

@@ -20,7 +20,11 @@ constexpr double kMinStep = 1e-8;
 // band[i][k] = A(i, i - k).
 using BandRow = std::array<double, 3>;
 
-// Solves (A + shift I) x = rhs by banded Cholesky. False if not positive definite.
+// Solves M x = rhs where M is A + shift I made positive definite row by row: a pivot
+// that is not safely positive (an indefinite or singular direction, e.g. a point
+// squeezed against a vertex where finite differences see a kink) is replaced by the
+// row's diagonal magnitude (modified Cholesky), so one bad variable damps only itself
+// instead of the whole chain. False if the result is not finite.
 bool band_solve(const std::vector<BandRow>& a, double shift, const std::vector<double>& rhs,
                 std::vector<double>& x) {
   const int n = static_cast<int>(a.size());
@@ -31,7 +35,9 @@ bool band_solve(const std::vector<BandRow>& a, double shift, const std::vector<d
       double s = a[i][k] + (k == 0 ? shift : 0.0);
       for (int m = std::max(0, i - 2); m < j; ++m) s -= l[i][i - m] * l[j][j - m];
       if (k == 0) {
-        if (!(s > 0.0) || !std::isfinite(s)) return false;
+        const double diag = std::abs(a[i][0]) + shift;
+        if (!(s > 1e-8 * diag)) s = diag > 0.0 ? diag : 1.0;
+        if (!std::isfinite(s)) return false;
         l[i][0] = std::sqrt(s);
       } else {
         l[i][k] = s / l[j][0];
@@ -98,7 +104,8 @@ class NewtonChain {
       }
       // Converged: the gradient is at round-off level of the energy.
       if (gmax <= 1e-13 * (std::abs(energy) + 1e-300)) return energy;
-      // Levenberg shift until the (possibly indefinite) Hessian is positive definite.
+      // The modified factorisation only fails on non-finite numbers; then a Levenberg
+      // shift, and as a last resort steepest descent.
       double shift = 0.0;
       bool solved = false;
       for (int attempt = 0; attempt < 30 && !solved; ++attempt) {
@@ -126,10 +133,7 @@ class NewtonChain {
           accepted = true;
           const double decrease = energy - e;
           energy = e;
-          if (decrease <= 1e-15 * std::abs(energy)) return energy;
-          // A large shift means a kink (points squeezed against a vertex): further
-          // iterations crawl; the caller's vertex moves resolve it instead.
-          if (shift > 0.0 && decrease <= 1e-9 * std::abs(energy)) return energy;
+          if (decrease <= 1e-13 * std::abs(energy)) return energy;
           break;
         }
       }

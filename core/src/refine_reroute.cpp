@@ -9,6 +9,12 @@
 namespace depath::refine {
 namespace {
 
+// A vertex where the path's surface angle is within this of pi on its smaller side is
+// passed straight (the re-route would gain ~ length * angle^2, nothing), which keeps
+// paths that run exactly through flat vertices from cycling between collapse and
+// re-route.
+constexpr double kStraightAngle = 1e-6;
+
 // Angle between two 3D vectors, in [0, pi].
 double angle_between(const Vec3& x, const Vec3& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); }
 
@@ -85,7 +91,7 @@ bool fan_route(const Mesh& mesh, int v, const SurfacePoint& a, const SurfacePoin
   const Vec3 vb = b.position(mesh) - pv;
   const double phi_b = angle_between(mesh.position(exits.back()) - pv, vb);
   const double span = phi_a + angle + phi_b;
-  if (!(span < std::numbers::pi * (1.0 - 1e-12)) || phi_a <= 0.0 || phi_b <= 0.0) return false;
+  if (!(span < std::numbers::pi - kStraightAngle) || phi_a <= 0.0 || phi_b <= 0.0) return false;
   // a at angle -phi_a, b at angle + phi_b past the last edge; the segment between them
   // crosses every edge ray once since the span is below pi.
   const double ra = va.norm(), rb = vb.norm();

@@ -31,7 +31,7 @@ struct RefineReport {
 struct RefineOptions {
   /// Maximum sweeps (each: optimise the points along their edges, then simplify and
   /// re-route at vertices).
-  int max_sweeps = 200;
+  int max_sweeps = 100;
   /// Stop once a sweep lowers the energy by less than this fraction and changes no
   /// vertex the path passes through.
   double tolerance = 1e-10;

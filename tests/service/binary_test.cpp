@@ -34,6 +34,13 @@ CommandResult run_command(const std::string& command) {
   return r;
 }
 
+/// The last non-empty line (the id a command prints on stdout after any notes).
+std::string last_line(const std::string& text) {
+  std::string t = text;
+  while (!t.empty() && t.back() == '\n') t.pop_back();
+  return t.substr(t.find_last_of('\n') + 1);
+}
+
 std::string read_text(const fs::path& p) {
   std::ifstream in(p);
   std::stringstream ss;
@@ -148,7 +155,7 @@ TEST_F(BinaryTest, ClientCommandsEndToEnd) {
   // submit / watch / result without the mesh file / jobs / cancel.
   r = run_command(client("submit " + mesh_ + job_flags, d));
   ASSERT_EQ(r.rc, 0) << r.output;
-  std::string job = r.output.substr(0, r.output.find('\n'));
+  std::string job = last_line(r.output);
   r = run_command(client("watch " + job + " --json", d));
   ASSERT_EQ(r.rc, 0) << r.output;
   EXPECT_NE(r.output.find("\"state\":\"succeeded\""), std::string::npos) << r.output;
@@ -193,7 +200,7 @@ TEST_F(BinaryTest, SigtermMidJobEndsWatchersAndExitsPromptly) {
   Daemon d(dir_);
   auto r = run_command(client("submit " + mesh_ + " -s 0 -t 399 --population 10 --generations 1000000", d));
   ASSERT_EQ(r.rc, 0) << r.output;
-  const std::string job = r.output.substr(0, r.output.find('\n'));
+  const std::string job = last_line(r.output);
   // A watcher in the background.
   const fs::path watch_out = dir_ / "watch.txt";
   const fs::path watch_rc = dir_ / "watch.rc";

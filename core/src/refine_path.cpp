@@ -76,7 +76,7 @@ SurfacePath refine_path(const Energy& energy, const SurfacePath& input, const Re
     current = e;
     rep.sweeps = sweep;
     rep.reroutes += rerouted;
-    if (options.on_sweep) options.on_sweep(RefineSweep{sweep, current, eval.evaluations()});
+    if (options.on_sweep) options.on_sweep(RefineSweep{sweep, current, eval.evaluations(), &path});
     const bool structural = !reverted && (removed > 0 || rerouted > 0);
     if (!structural && !(start - current > options.tolerance * std::abs(start))) break;
     if (sweep == options.max_sweeps) rep.stop_reason = "max_sweeps";

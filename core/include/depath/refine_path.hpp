@@ -16,6 +16,7 @@ struct RefineSweep {
   int sweep = 0;            ///< 1-based sweep just finished
   double energy = 0.0;      ///< energy of the path after it
   int64_t evaluations = 0;  ///< segment-energy evaluations so far
+  const SurfacePath* path = nullptr;  ///< the path after it (valid during the callback)
 };
 
 /// Summary of a refinement run.

@@ -13,7 +13,10 @@ MethodOutcome run_descent_method(const MethodContext& ctx) {
   // Work is reported in whole-path energy evaluations, the unit DE counts in: the
   // refinement counts segment evaluations, so divide by the path's segment count.
   const int64_t segments = std::max(1, ctx.fmm_path.num_segments());
+  double previous = ctx.fmm_energy;
   options.on_sweep = [&](const RefineSweep& sweep) {
+    const bool improved = sweep.energy < previous;
+    previous = sweep.energy;
     if (!ctx.hooks.on_progress) return;
     Progress progress;
     progress.generation = sweep.sweep;
@@ -21,7 +24,9 @@ MethodOutcome run_descent_method(const MethodContext& ctx) {
     progress.best_energy = sweep.energy;
     progress.mean_energy = sweep.energy;
     progress.evaluations = (sweep.evaluations + segments - 1) / segments;
-    progress.improvements = 1;
+    progress.improvements = improved ? 1 : 0;
+    const int every = ctx.job.path_every;
+    progress.best_path = every > 0 && sweep.sweep % every == 0 ? sweep.path : nullptr;
     progress.elapsed_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - ctx.start).count();
     ctx.hooks.on_progress(progress);

@@ -1,0 +1,107 @@
+// The `descent` method through solve(): local refinement started from the fmm path.
+#include "depath/job.hpp"
+#include "depath/mesh_io.hpp"
+#include "depath/solve.hpp"
+#include "depath/surface_generators.hpp"
+#include "test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace depath {
+namespace {
+
+Mesh peaks_grid() {
+  GridOptions o;
+  o.n = 31;
+  o.height = GridHeight::peaks;
+  o.diagonals = GridDiagonals::alternating;
+  return make_grid(o);
+}
+
+TEST(DescentMethod, ImprovesOnTheFmmPathAndReportsProgress) {
+  const Mesh mesh = peaks_grid();
+  JobSpec job;
+  job.source = 0;
+  job.target = mesh.num_vertices() - 1;
+  job.method = Method::descent;
+  job.threads = 1;
+  job.path_every = 1;
+  std::vector<Progress> reports;
+  int with_path = 0;
+  SolveHooks hooks;
+  hooks.on_progress = [&](const Progress& p) {
+    reports.push_back(p);
+    with_path += p.best_path != nullptr;
+  };
+  const SolveResult result = solve(mesh, job, hooks);
+  EXPECT_EQ(result.method, Method::descent);
+  EXPECT_EQ(result.stop_reason, "converged");
+  EXPECT_LT(result.energy, result.fmm_energy);
+  EXPECT_NEAR(result.energy, result.length, 1e-9 * result.length);  // uniform density
+  ASSERT_FALSE(reports.empty());
+  EXPECT_EQ(static_cast<int>(reports.size()), result.generations);
+  EXPECT_EQ(with_path, result.generations);
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    EXPECT_EQ(reports[i].generation, static_cast<int>(i) + 1);
+    if (i > 0) {
+      EXPECT_LE(reports[i].best_energy, reports[i - 1].best_energy);
+      EXPECT_GE(reports[i].evaluations, reports[i - 1].evaluations);
+    }
+  }
+  EXPECT_DOUBLE_EQ(reports.back().best_energy, result.energy);
+  EXPECT_GT(result.evaluations, 0);
+  EXPECT_EQ(result.path.points.front().v0, job.source);
+  EXPECT_EQ(result.path.points.back().v0, job.target);
+}
+
+TEST(DescentMethod, CancelledStopsAtOnceWithTheFmmQuality) {
+  const Mesh mesh = peaks_grid();
+  JobSpec job;
+  job.source = 0;
+  job.target = mesh.num_vertices() - 1;
+  job.method = Method::descent;
+  job.threads = 1;
+  SolveHooks hooks;
+  hooks.is_cancelled = [] { return true; };
+  const SolveResult result = solve(mesh, job, hooks);
+  EXPECT_EQ(result.stop_reason, "cancelled");
+  EXPECT_LE(result.energy, result.fmm_energy);
+}
+
+TEST(DescentMethod, ReachesTheExactGeodesicOnKitten) {
+  DEPATH_REQUIRE_SHARED_DATA();
+  const Mesh mesh = load_mesh(test::shared_data("meshes/kitten.off"));
+  JobSpec job;
+  job.source = 0;
+  job.target = 755;
+  job.method = Method::descent;
+  job.threads = 1;
+  const SolveResult result = solve(mesh, job);
+  const double exact = 38.7146873422;  // geodesic_exact.csv: kitten.off,0,755
+  EXPECT_GT(result.fmm_energy, exact * 1.005);  // the fmm path is 0.9% long
+  EXPECT_LE(result.energy, exact * 1.001);
+  EXPECT_GE(result.energy, exact * (1 - 1e-6));
+}
+
+TEST(DescentMethod, RefineAfterDescentChangesNothingForTheWorse) {
+  const Mesh mesh = peaks_grid();
+  JobSpec job;
+  job.source = 40;
+  job.target = 900;
+  job.method = Method::descent;
+  job.threads = 1;
+  job.energy.kind = EnergyKind::constant_slope;
+  job.energy.slope = 0.3;
+  const SolveResult plain = solve(mesh, job);
+  job.refine = true;
+  const SolveResult refined = solve(mesh, job);
+  EXPECT_TRUE(refined.refined);
+  EXPECT_LT(plain.energy, plain.fmm_energy);
+  EXPECT_LE(refined.energy, plain.energy);
+}
+
+}  // namespace
+}  // namespace depath

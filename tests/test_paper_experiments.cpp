@@ -3,7 +3,7 @@
 //
 // Each problem has an analytic optimum of energy 0 whose end points are mesh vertices:
 //  - rotation: the field is tangent to the circles around the centre; s and t lie on one
-//    circle, so the quarter arc between them follows the field exactly;
+//    circle, so the arc between them follows the field exactly;
 //  - converge: the field (1, -y / c) has field lines y = y0 exp(-x / c), converging towards
 //    the x axis; s and t lie on one field line;
 //  - constant slope: on a cone, a curve of constant slope dz/ds = k is a spiral
@@ -35,6 +35,22 @@ double metric(const SolveResult& r, const std::string& name) {
     if (m.name == name) return m.value;
   ADD_FAILURE() << "no metric " << name;
   return -1.0;
+}
+
+// Every segment lies in its face: both end points are corners or edge points of it.
+void expect_valid_path(const Mesh& mesh, const SurfacePath& path, int source, int target) {
+  ASSERT_GE(path.points.size(), 2u);
+  ASSERT_EQ(path.segment_faces.size() + 1, path.points.size());
+  EXPECT_TRUE(path.points.front().is_vertex() && path.points.front().v0 == source);
+  EXPECT_TRUE(path.points.back().is_vertex() && path.points.back().v0 == target);
+  const auto on_face = [&](const SurfacePoint& p, int f) {
+    return mesh.corner_of(f, p.v0) >= 0 && (p.is_vertex() || mesh.corner_of(f, p.v1) >= 0);
+  };
+  for (int i = 0; i < path.num_segments(); ++i) {
+    const int f = path.segment_faces[i];
+    ASSERT_TRUE(f >= 0 && f < mesh.num_faces()) << "segment " << i;
+    EXPECT_TRUE(on_face(path.points[i], f) && on_face(path.points[i + 1], f)) << "segment " << i << " leaves face " << f;
+  }
 }
 
 JobSpec de_job(int source, int target, int generations) {
@@ -70,15 +86,20 @@ int grid_vertex(int i, int j) { return 41 * j + i; }
 
 TEST(PaperExperiments, VectorFieldRotation) {
   const Mesh mesh = grid41();
-  // s = (0.75, 0) and t = (0, 0.75): a quarter of the circle of radius 0.75.
-  JobSpec job = de_job(grid_vertex(35, 20), grid_vertex(20, 35), 600);
+  // s = (0.45, -0.6) and t = (-0.45, -0.6) on the circle of radius 0.75: the optimum is the
+  // 73.7-degree arc below the chord; descent from the chord (symmetric about the y axis)
+  // stays stuck. The best mesh path is not 0: chords of the arc cross the field lines; the
+  // path through the arc's edge crossings scores 0.0096. Measured with seeds 1-5:
+  // 0.0106 - 0.0194 (seed 1: 0.0188), descent 0.346.
+  JobSpec job = de_job(grid_vertex(29, 8), grid_vertex(11, 8), 600);
   job.energy.kind = EnergyKind::vector_field;
   job.energy.field = rotation_field(mesh, Vec3::Zero(), 2);
   const SolveResult de = solve(mesh, job);
+  expect_valid_path(mesh, de.path, job.source, job.target);
   const SolveResult descent = solve(mesh, with_method(job, Method::descent));
   const double de_norm = metric(de, "normalized_energy"), descent_norm = metric(descent, "normalized_energy");
   std::printf("rotation: de+refine normalized %.4f (length %.4f, arc %.4f), descent %.4f, fmm energy %.4f\n", de_norm,
-              de.length, 0.75 * kPi / 2, descent_norm, de.fmm_energy);
+              de.length, 0.75 * 2 * std::atan2(0.45, 0.6), descent_norm, de.fmm_energy);
   EXPECT_LE(de_norm, 0.02);
   EXPECT_LT(de_norm, descent_norm);
   // It is the arc: every point within a grid spacing of the circle.
@@ -96,6 +117,7 @@ TEST(PaperExperiments, VectorFieldConverge) {
   job.energy.kind = EnergyKind::vector_field;
   job.energy.field = converge_field(mesh, Vec3::Zero(), 2, c);
   const SolveResult de = solve(mesh, job);
+  expect_valid_path(mesh, de.path, job.source, job.target);
   const SolveResult descent = solve(mesh, with_method(job, Method::descent));
   const double de_norm = metric(de, "normalized_energy"), descent_norm = metric(descent, "normalized_energy");
   std::printf("converge: de+refine normalized %.4f, descent %.4f\n", de_norm, descent_norm);
@@ -160,6 +182,7 @@ TEST(PaperExperiments, ConstantSlopeOnACone) {
   job.energy.kind = EnergyKind::constant_slope;
   job.energy.slope = k;
   const SolveResult de = solve(mesh, job);
+  expect_valid_path(mesh, de.path, job.source, job.target);
   const SolveResult fmm = solve(mesh, with_method(job, Method::fmm));
   const double error = metric(de, "mean_slope_error"), fmm_error = metric(fmm, "mean_slope_error");
   std::printf("cone k = %.2f (h = %.4f): de+refine mean slope error %.4f, normalized %.4f; fmm %.4f\n", k, o.height,

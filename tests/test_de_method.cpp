@@ -54,17 +54,6 @@ JobSpec de_job(int source, int target, int population, int generations, uint64_t
   return job;
 }
 
-// Density 1 with a bump of 5 in the middle of a [-3, 3]^2 grid: the straight diagonal
-// is expensive, the best path bends around the bump.
-std::vector<double> bump_density(const Mesh& mesh) {
-  std::vector<double> rho(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec3& p = mesh.position(v);
-    rho[v] = 1.0 + 4.0 * std::exp(-(p.x() * p.x() + p.y() * p.y()) / 2.0);
-  }
-  return rho;
-}
-
 TEST(DeMethod, SameSeedSameResultWhateverTheThreadCount) {
   const Mesh mesh = grid(17, GridHeight::peaks);
   for (const std::string strategy : {"rand1bin", "shade"}) {
@@ -110,17 +99,23 @@ TEST(DeMethod, ConvergesOnASmallFlatGrid) {
   expect_valid_path(mesh, r.path, 0, n * n - 1);
 }
 
+// On a curved surface (peaks) the fmm back-trace is off the geodesic by a fraction of a
+// percent; seeded DE starts from it, so it can only end at or below it, and does better.
 TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
   const int n = 21;
-  const Mesh mesh = grid(n, GridHeight::flat);
+  GridOptions options;
+  options.n = n;
+  options.height = GridHeight::peaks;
+  options.diagonals = GridDiagonals::alternating;
+  const Mesh mesh = make_grid(options);
   JobSpec job = de_job(0, n * n - 1, 16, 30);
-  job.energy.density = bump_density(mesh);
   job.de.seed_with_problem = true;
   for (const std::string strategy : {"rand1bin", "shade"}) {
     job.de.strategy = strategy;
     const SolveResult r = solve(mesh, job);
     EXPECT_LE(r.energy, r.fmm_energy) << strategy;
-    EXPECT_LT(r.energy, r.fmm_energy * 0.999) << strategy << ": DE should improve on the fmm back-trace";
+    EXPECT_LT(r.energy, r.fmm_energy * 0.998) << strategy << ": DE should improve on the fmm back-trace";
+    EXPECT_DOUBLE_EQ(r.energy, r.length) << "uniform density: the energy is the length";
     expect_valid_path(mesh, r.path, 0, n * n - 1);
   }
 }

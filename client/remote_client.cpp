@@ -97,6 +97,8 @@ void RemoteClient::check(const grpc::Status& status, const std::string& doing) c
   std::string message = doing + ": " + wire::status_code_name(status.error_code()) + ": " + status.error_message();
   if (status.error_code() == grpc::StatusCode::UNAVAILABLE && status.error_message().find("shutting down") == std::string::npos) {
     message = doing + ": cannot reach the server at " + options_.server + " (" + status.error_message() + ")";
+  } else if (status.error_code() == grpc::StatusCode::DEADLINE_EXCEEDED) {
+    message = doing + ": no answer from the server at " + options_.server + " in time (is it running? --connect-timeout)";
   }
   throw RemoteError(status.error_code(), message);
 }

@@ -255,10 +255,12 @@ TEST(DifferentialEvolution, StopsWhenThePopulationCollapsed) {
   ThreadPool pool(1);
   DeProblem problem = make_problem(3, sphere);
   problem.initialize = [](int, DeRandom&, std::span<double> x) { std::fill(x.begin(), x.end(), 0.25); };
-  const DeResult r = run_differential_evolution(problem, settings(5, 50), pool);
-  EXPECT_EQ(r.stop_reason, "converged");
-  EXPECT_EQ(r.generations, 1);
-  EXPECT_DOUBLE_EQ(r.best_energy, 3 * 0.75 * 0.75);
+  for (const std::string strategy : {"rand1bin", "shade"}) {
+    const DeResult r = run_differential_evolution(problem, settings(5, 50, strategy), pool);
+    EXPECT_EQ(r.stop_reason, "converged") << strategy;
+    EXPECT_EQ(r.generations, 1) << strategy;
+    EXPECT_DOUBLE_EQ(r.best_energy, 3 * 0.75 * 0.75) << strategy;
+  }
 }
 
 TEST(DifferentialEvolution, CancellationStopsBetweenEvaluations) {

@@ -278,8 +278,9 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
       result.stop_reason = "stalled";
       break;
     }
-    // Every agent identical: no difference vector is left, nothing can change any more.
-    if (lowest == highest && population_collapsed(agents, n)) {
+    // Every agent identical and nothing else to draw on: no difference vector is left,
+    // no trial can differ from its parent any more.
+    if (lowest == highest && !strategy->has_external_diversity() && population_collapsed(agents, n)) {
       result.stop_reason = "converged";
       break;
     }

@@ -97,6 +97,8 @@ class Shade final : public Strategy {
     }
   }
 
+  bool has_external_diversity() const override { return archive_size() > 0; }
+
  private:
   int archive_size() const { return static_cast<int>(archive_.size() / n_); }
 

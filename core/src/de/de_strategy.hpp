@@ -45,6 +45,10 @@ class Strategy {
 
   /// Serial, after selection (the population view already shows the new agents).
   virtual void end_generation(const PopulationView& pop, const SelectionView& sel, DeRandom& rng) {}
+
+  /// True if trials can draw on vectors outside the population (e.g. an archive), so a
+  /// population whose agents are all identical may still move.
+  virtual bool has_external_diversity() const { return false; }
 };
 
 /// Builds the strategy named settings.strategy. Throws Error(invalid_argument) naming the

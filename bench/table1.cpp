@@ -11,6 +11,10 @@
 // ~15.6k-vertex mesh, vector-field paths on 41x41 / 81x81 / 121x121 grids, constant-slope
 // paths on terrains; agents 20-40, iterations 100-500.
 //
+// Finally, quality against truth: on the shared meshes with bump densities, `fmm`, and
+// `de` seeded with the problem (rand1bin and shade), each against the Steiner-graph cost
+// (16 points per edge; an upper bound a little above the optimum).
+//
 // Usage: bench_table1 [--threads T] [--quick] [--data DIR] [--strategy NAME] [--seeded]
 //   --quick  caps every row at 20 iterations (smoke run; ratios stay per-evaluation fair
 //            because the paper time is estimated for the evaluations actually run).
@@ -25,6 +29,9 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <optional>
 #include <string>
 #include <thread>
@@ -140,6 +147,57 @@ double throughput(const Mesh& mesh, JobSpec job, int threads, int generations) {
   return (generations - 1) / (last - first);
 }
 
+// Seeded `de` against the Steiner-graph truth (truth/weighted_steiner.csv), a few pairs per mesh.
+void quality_section(const std::string& data, int threads, bool quick) {
+  std::ifstream csv(data + "/truth/weighted_steiner.csv");
+  if (!csv) {
+    std::printf("\n(quality section skipped: %s/truth/weighted_steiner.csv not found)\n", data.c_str());
+    return;
+  }
+  const int pairs_per_mesh = quick ? 1 : 3;
+  const int generations = quick ? 10 : 50;
+  std::printf("\nquality vs truth (bump densities; de seeded with the problem, 20 agents, %d generations; "
+              "k16 = Steiner-graph cost, 16 points/edge, slightly above the optimum)\n", generations);
+  std::printf("%-16s %6s %6s %12s %12s %12s %12s %9s %9s\n", "mesh", "s", "t", "k16", "fmm/k16", "rand1bin/k16",
+              "shade/k16", "r1b [s]", "shade [s]");
+  std::string line;
+  std::getline(csv, line);
+  std::map<std::string, int> seen;
+  std::map<std::string, Mesh> meshes;
+  std::map<std::string, std::vector<double>> densities;
+  while (std::getline(csv, line)) {
+    std::stringstream row(line);
+    std::string name, density, field;
+    std::getline(row, name, ',');
+    std::getline(row, density, ',');
+    if (++seen[name] > pairs_per_mesh) continue;
+    std::getline(row, field, ',');
+    const int s = std::stoi(field);
+    std::getline(row, field, ',');
+    const int t = std::stoi(field);
+    std::getline(row, field, ',');
+    const double k16 = std::stod(field);
+    if (!meshes.count(name)) {
+      meshes.emplace(name, load_mesh(data + "/meshes/" + name));
+      densities[name] = read_scalar_file(data + "/fields/" + density);
+    }
+    JobSpec job = job_for(s, t, 20, generations);
+    job.threads = threads;
+    job.energy.density = densities[name];
+    job.de.seed_with_problem = true;
+    try {
+      const SolveResult r1 = solve(meshes.at(name), job);
+      job.de.strategy = "shade";
+      const SolveResult r2 = solve(meshes.at(name), job);
+      std::printf("%-16s %6d %6d %12.5f %12.5f %12.5f %12.5f %9.2f %9.2f\n", name.c_str(), s, t, k16,
+                  r1.fmm_energy / k16, r1.energy / k16, r2.energy / k16, r1.seconds, r2.seconds);
+    } catch (const std::exception& e) {
+      std::printf("%-16s %6d %6d  skipped: %s\n", name.c_str(), s, t, e.what());
+    }
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -204,5 +262,6 @@ int main(int argc, char** argv) {
                 "2 threads %.2f generations/s -> %.2fx (target >= 1.8x)\n",
                 row.mesh_name.c_str(), job.de.population, one, 1e3 / one, one * job.de.population, two, two / one);
   }
+  quality_section(data, threads, quick);
   return 0;
 }

@@ -33,6 +33,7 @@
 #include <map>
 #include <sstream>
 #include <optional>
+#include <sys/resource.h>
 #include <string>
 #include <thread>
 #include <vector>
@@ -132,19 +133,34 @@ std::vector<Row> make_rows(const std::string& data) {
   return rows;
 }
 
-double throughput(const Mesh& mesh, JobSpec job, int threads, int generations) {
+double cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+}
+
+struct Throughput {
+  double generations_per_second = 0.0;
+  double cores_used = 0.0;  // process CPU time / wall time over the timed generations
+};
+
+Throughput throughput(const Mesh& mesh, JobSpec job, int threads, int generations) {
   job.threads = threads;
   job.de.generations = generations;
-  double first = 0.0, last = 0.0;
+  double first = 0.0, last = 0.0, cpu_first = 0.0, cpu_last = 0.0;
   SolveHooks hooks;
   // Time generations only (from the end of generation 1 to the end of the last), so the
   // stencil build, fmm baseline and initial population do not blur the figure.
   hooks.on_progress = [&](const Progress& p) {
-    if (p.generation == 1) first = p.elapsed_seconds;
+    if (p.generation == 1) {
+      first = p.elapsed_seconds;
+      cpu_first = cpu_seconds();
+    }
     last = p.elapsed_seconds;
+    cpu_last = cpu_seconds();
   };
   solve(mesh, job, hooks);
-  return (generations - 1) / (last - first);
+  return {(generations - 1) / (last - first), (cpu_last - cpu_first) / (last - first)};
 }
 
 // Seeded `de` against the Steiner-graph truth (truth/weighted_steiner.csv), a few pairs per mesh.
@@ -256,11 +272,16 @@ int main(int argc, char** argv) {
     JobSpec job = row.job;
     job.de.strategy = strategy;
     const int generations = quick ? 4 : 8;
-    const double one = throughput(*row.mesh, job, 1, generations);
-    const double two = throughput(*row.mesh, job, 2, generations);
+    const Throughput one = throughput(*row.mesh, job, 1, generations);
+    const Throughput two = throughput(*row.mesh, job, 2, generations);
     std::printf("\nthread scaling (%s, %d agents): 1 thread %.2f generations/s (%.1f ms/generation, %.0f evaluations/s), "
                 "2 threads %.2f generations/s -> %.2fx (target >= 1.8x)\n",
-                row.mesh_name.c_str(), job.de.population, one, 1e3 / one, one * job.de.population, two, two / one);
+                row.mesh_name.c_str(), job.de.population, one.generations_per_second,
+                1e3 / one.generations_per_second, one.generations_per_second * job.de.population,
+                two.generations_per_second, two.generations_per_second / one.generations_per_second);
+    std::printf("  CPU cores the process actually got: %.2f with 1 thread, %.2f with 2 threads "
+                "(below 2 means other load on the machine caps the scaling)\n",
+                one.cores_used, two.cores_used);
   }
   quality_section(data, threads, quick);
   return 0;

@@ -14,6 +14,7 @@
 # Environment: DEPATH_IMAGE_CACHE (default /var/tmp/depath-images), DEPATH_IMAGE (tag,
 # default localhost/depath:test), DEPATH_TEST_PORT (default 50071: not 50051, so a
 # developer's own server on this host is left alone), DEPATH_BUILD_JOBS (default 2),
+# DEPATH_CTEST_ARGS (extra ctest arguments for the unit tests in the build, e.g. "-E slow"),
 # DEPATH_CLIENT (host client binary; default build/client/depath, else the image's own).
 set -euo pipefail
 
@@ -99,6 +100,7 @@ cache_opt=()
 log "podman build $image (JOBS=$jobs${cache_opt:+, no cache})"
 t0=$(date +%s.%N)
 podman build --pull=never --format docker "${cache_opt[@]}" --build-arg JOBS="$jobs" \
+  --build-arg CTEST_ARGS="${DEPATH_CTEST_ARGS:-}" \
   -t "$image" -f "$root/Dockerfile" "$root"
 build_s=$(elapsed "$t0")
 size_b=$(podman image inspect --format '{{.Size}}' "$image")

@@ -236,10 +236,16 @@ def check_flags(root, depathd, problems):
         skip("depathd is not built")
     out = subprocess.run([depathd, "--help"], capture_output=True, text=True, timeout=30)
     help_text = out.stdout + out.stderr
-    used = set()
-    for f in ("Dockerfile", "deploy/compose.yaml", "deploy/k8s/deployment.yaml"):
-        used |= set(re.findall(r"(--[a-z][a-z-]+)[=\"]", (root / f).read_text()))
-    used -= {"--server", "--no-install-recommends"}
+    # The flags handed to depathd: the image's CMD, compose's command, the pod's args.
+    final_cmd = [a for i, a in dockerfile_instructions((root / "Dockerfile").read_text())
+                 if i == "CMD"][-1]
+    (compose,) = load_yaml_all((root / "deploy/compose.yaml").read_text())
+    (deployment,) = [d for d in load_yaml_all((root / "deploy/k8s/deployment.yaml").read_text())
+                     if d.get("kind") == "Deployment"]
+    args = re.findall(r'"(--[a-z-]+)"', final_cmd)
+    args += [str(a) for a in compose["services"]["depathd"].get("command", [])]
+    args += [str(a) for c in pod_spec(deployment)["containers"] for a in c.get("args", [])]
+    used = {a.split("=", 1)[0] for a in args if a.startswith("--")}
     for flag in sorted(used):
         problems.check(re.search(re.escape(flag) + r"\b", help_text) is not None,
                        f"depathd --help does not list {flag}")

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace depath {
 namespace {
@@ -25,6 +26,8 @@ constexpr double kObtuseCos = -1e-9;
 struct PlanarUpdate {
   int c, x, y;
   Vec2 px, py;
+  bool x_is_neighbor = true;  // false for an unfolded vertex: c-x is no mesh edge
+  bool y_is_neighbor = true;
 };
 
 // Places the third vertex of a face across the edge (pa, pb), on the side away from `away`.
@@ -87,8 +90,8 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
         const bool past_a = pd.dot(pa) > 0.0;  // angle(a, c, d) acute
         const bool past_b = pd.dot(pb) > 0.0;  // angle(d, c, b) acute
         if (past_a && past_b) {
-          planar.push_back({c, a, d, pa, pd});
-          planar.push_back({c, d, b, pd, pb});
+          planar.push_back({c, a, d, pa, pd, true, false});
+          planar.push_back({c, d, b, pd, pb, false, true});
           split = true;
           break;
         }
@@ -122,22 +125,26 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
   for (int v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
   updates_.resize(offset_[nv]);
   std::vector<int> fill(offset_.begin(), offset_.end() - 1);
-  auto store = [&](int c, int x, int y, const Vec2& px, const Vec2& py) {
+  // The straight "edge" update along c-x is only a surface path when c-x is a mesh edge;
+  // an infinite length disables it for unfolded vertices, so every vertex takes its first
+  // value from a mesh neighbour (the back-trace relies on that).
+  constexpr float kNoEdge = std::numeric_limits<float>::infinity();
+  auto store = [&](int c, int x, int y, const Vec2& px, const Vec2& py, bool x_near, bool y_near) {
     const Vec2 e = py - px;
     const double len2 = e.squaredNorm();
     Update u;
     u.target = c;
     u.other = y;
-    u.len_this = float(px.norm());
-    u.len_other = float(py.norm());
+    u.len_this = x_near ? float(px.norm()) : kNoEdge;
+    u.len_other = y_near ? float(py.norm()) : kNoEdge;
     u.inv_len2 = len2 > 0 ? float(1.0 / len2) : 0.0f;
     u.lambda0 = len2 > 0 ? float(-px.dot(e) / len2) : 0.0f;
     u.height = len2 > 0 ? float(std::abs(cross2(e, -px)) / std::sqrt(len2)) : 0.0f;
     updates_[fill[x]++] = u;
   };
   for (const auto& p : planar) {
-    store(p.c, p.x, p.y, p.px, p.py);
-    store(p.c, p.y, p.x, p.py, p.px);
+    store(p.c, p.x, p.y, p.px, p.py, p.x_is_neighbor, p.y_is_neighbor);
+    store(p.c, p.y, p.x, p.py, p.px, p.y_is_neighbor, p.x_is_neighbor);
   }
   for (const auto& [x, c] : edge_only) {
     Update u{};

@@ -1,6 +1,7 @@
 #include "depath/mesh_io.hpp"
 
 #include "depath/error.hpp"
+#include "mesh_size_check.hpp"
 
 #include <OpenMesh/Core/IO/IOManager.hh>
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -135,6 +136,7 @@ Mesh load_mesh_from_bytes(std::string_view bytes, std::string_view format, std::
   const std::string label = std::string(name);
   if (bytes.empty()) throw Error(ErrorCode::invalid_argument, "mesh " + label + " is empty (0 bytes)");
 
+  check_declared_sizes(bytes, fmt, label);
   SoupImporter importer;
   {
     std::lock_guard lock(reader_mutex());
@@ -164,7 +166,8 @@ Mesh load_mesh_from_bytes(std::string_view bytes, std::string_view format, std::
     throw Error(ErrorCode::invalid_argument, "mesh " + label + " has " + std::to_string(importer.bad_face_refs) +
                                                  " face(s) referring to missing vertices");
   if (importer.positions.empty())
-    throw Error(ErrorCode::invalid_argument, "mesh " + label + " is empty: it has no vertices");
+    throw Error(ErrorCode::invalid_argument,
+                "mesh " + label + " has no vertices (an empty mesh, or the file does not parse as " + fmt + ")");
   if (importer.polygons.empty())
     throw Error(ErrorCode::invalid_argument, "mesh " + label + " has no faces");
   try {

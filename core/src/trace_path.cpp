@@ -100,7 +100,12 @@ class Tracer {
         // Give up on face steps (numerical trouble): descend by acceptance order, which
         // strictly decreases at each step and so reaches the source.
         if (!cur.is_vertex()) cur = append_vertex(lower_end(cur), came_from_);
-        cur = append_vertex(earlier_neighbor(cur.v0), -1);
+        const int earlier = earlier_neighbor(cur.v0);
+        if (earlier < 0) {
+          walk_edges_to_source(cur.v0);
+          break;
+        }
+        cur = append_vertex(earlier, -1);
         continue;
       }
       const int came_from = came_from_;
@@ -134,15 +139,36 @@ class Tracer {
     return fm_.order(p.v0) < fm_.order(p.v1) ? p.v0 : p.v1;
   }
 
-  // The neighbour accepted before v with the lowest value (exists for every reached
-  // vertex but the source: fast marching's guarantee).
+  // The neighbour accepted before v with the lowest value: exists for every reached
+  // vertex but the source (fast marching's guarantee); -1 if not.
   int earlier_neighbor(int v) const {
     int best = -1;
     for (const int* n = mesh_.vertex_neighbors_begin(v); n != mesh_.vertex_neighbors_end(v); ++n) {
       if (fm_.order(*n) >= fm_.order(v)) continue;
       if (best < 0 || u_[*n] < u_[best] || (u_[*n] == u_[best] && fm_.order(*n) < fm_.order(best))) best = *n;
     }
-    return best >= 0 ? best : source_;
+    return best;
+  }
+
+  // Last resort should the guarantee ever fail: the fewest-edges walk to the source
+  // (breadth-first over mesh edges; s and t share a component, so it exists).
+  void walk_edges_to_source(int from) {
+    std::vector<int> parent(mesh_.num_vertices(), -1);
+    std::vector<int> queue{source_};
+    parent[source_] = source_;
+    for (size_t head = 0; head < queue.size() && parent[from] < 0; ++head) {
+      const int v = queue[head];
+      for (const int* n = mesh_.vertex_neighbors_begin(v); n != mesh_.vertex_neighbors_end(v); ++n) {
+        if (parent[*n] < 0) {
+          parent[*n] = v;
+          queue.push_back(*n);
+        }
+      }
+    }
+    for (int v = from; v != source_ && parent[v] >= 0;) {
+      v = parent[v];
+      append_vertex(v, -1);
+    }
   }
 
   // A point on edge (face.v[i], face.v[j]) at parameter w, snapped to the ends.
@@ -200,7 +226,10 @@ class Tracer {
         }
       }
     }
-    return append_vertex(earlier_neighbor(v), -1);
+    const int earlier = earlier_neighbor(v);
+    if (earlier >= 0) return append_vertex(earlier, -1);
+    walk_edges_to_source(v);
+    return SurfacePoint::at_vertex(source_);
   }
 
   SurfacePoint step_from_edge(const SurfacePoint& p, int came_from) {

@@ -27,8 +27,8 @@ class FastMarchingStencils {
     float lambda0;    ///< foot of the perpendicular from target on the support line, as parameter
     float height;     ///< distance from target to the support line
     float inv_len2;   ///< 1 / |other - this|^2 (in the unfolded plane)
-    float len_this;   ///< |target - this|
-    float len_other;  ///< |target - other|
+    float len_this;   ///< |target - this|, +inf when target-this is no mesh edge
+    float len_other;  ///< |target - other|, +inf when target-other is no mesh edge
   };
   const Update* updates_begin(int v) const { return updates_.data() + offset_[v]; }
   const Update* updates_end(int v) const { return updates_.data() + offset_[v + 1]; }

@@ -271,6 +271,7 @@ void add_watch(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "Print JSON lines instead of a progress bar");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
+    if (!o->out.empty()) check_result_path(o->out);
     RemoteClient client(o->remote);
     ProgressDisplay display(o->remote.json);
     std::optional<v1::JobResult> result;
@@ -307,6 +308,7 @@ void add_result(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "Print the result as one JSON line on stdout");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
+    if (!o->out.empty()) check_result_path(o->out);
     RemoteClient client(o->remote);
     const v1::JobResult result = fetch_result(client, o->job_id);
     std::unique_ptr<Mesh> mesh;
@@ -401,6 +403,7 @@ void add_run(CLI::App& app) {
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
     o->remote.json = o->job.json;
+    if (!o->job.out.empty()) check_result_path(o->job.out);  // fail before the work, not after
     const Mesh mesh = load_mesh(o->job.mesh_path);  // validates locally and writes the result later
     RemoteClient client(o->remote);
     ProgressDisplay display(o->job.json);

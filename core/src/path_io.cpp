@@ -94,16 +94,24 @@ nlohmann::json result_to_json(const Mesh& mesh, const SolveResult& result) {
   return j;
 }
 
-void write_result(const std::string& path, const Mesh& mesh, const SolveResult& result) {
+namespace {
+using Writer = void (*)(std::ostream&, const Mesh&, const SolveResult&);
+
+Writer writer_for(const std::string& path) {
   const std::string ext = extension_of(path);
-  void (*writer)(std::ostream&, const Mesh&, const SolveResult&) = nullptr;
-  if (ext == "json") writer = write_json;
-  else if (ext == "obj") writer = write_obj;
-  else if (ext == "ply") writer = write_ply;
-  else if (ext == "csv") writer = write_csv;
-  else
-    throw Error(ErrorCode::invalid_argument,
-                "cannot write '" + path + "': the output extension must be .json, .obj, .ply or .csv");
+  if (ext == "json") return write_json;
+  if (ext == "obj") return write_obj;
+  if (ext == "ply") return write_ply;
+  if (ext == "csv") return write_csv;
+  throw Error(ErrorCode::invalid_argument,
+              "cannot write '" + path + "': the output extension must be .json, .obj, .ply or .csv");
+}
+}  // namespace
+
+void check_result_path(const std::string& path) { (void)writer_for(path); }
+
+void write_result(const std::string& path, const Mesh& mesh, const SolveResult& result) {
+  const Writer writer = writer_for(path);
   std::ofstream out(path, std::ios::binary);
   if (!out) throw Error(ErrorCode::invalid_argument, "cannot open '" + path + "' for writing");
   writer(out, mesh, result);

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The `depath` command line as a user drives it: outputs, exit codes and error messages.
+#   cli_test.sh DEPATH_BINARY TEST_DATA_DIR
+set -uo pipefail
+depath="$1"
+data="$2"
+work="$(mktemp -d)"
+trap 'rm -rf "$work"' EXIT
+passed=0
+failed=0
+
+# expect NAME EXIT_CODE TEXT -- command...: runs it, checks the exit code and that stderr+stdout contain TEXT.
+expect() {
+  local name="$1" code="$2" text="$3"
+  shift 4
+  local out rc
+  out="$("$@" 2>&1)"
+  rc=$?
+  if [ "$rc" -eq "$code" ] && grep -qF -- "$text" <<<"$out"; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAILED: $name (exit $rc, expected $code; wanted '$text')"
+    echo "$out" | head -5 | sed 's/^/    /'
+  fi
+}
+
+cone="$data/cone.off"
+expect "fmm solve writes json" 0 "wrote $work/p.json" -- "$depath" solve "$cone" -s 0 -t 348 --method fmm --out "$work/p.json"
+expect "json has the contract fields" 0 "ok" -- python3 -c "
+import json, sys
+r = json.load(open('$work/p.json'))
+need = ['points', 'crossings', 'energy', 'length', 'method', 'generations', 'evaluations', 'seconds', 'fmm_energy']
+missing = [k for k in need if k not in r]
+assert not missing, missing
+assert r['crossings'][0] == {'vertex': 0} and r['crossings'][-1] == {'vertex': 348}, r['crossings'][:1]
+assert len(r['points']) == len(r['crossings'])
+print('ok')"
+expect "de --json prints progress and result lines" 0 '"event":"result"' -- \
+  "$depath" solve "$cone" -s 0 -t 348 --generations 5 --population 6 --json --threads 2
+expect "csv output" 0 "wrote" -- "$depath" solve "$cone" -s 0 -t 348 --method fmm --out "$work/p.csv"
+expect "obj output" 0 "wrote" -- "$depath" solve "$cone" -s 0 -t 348 --method fmm --out "$work/p.obj"
+expect "ply output" 0 "wrote" -- "$depath" solve "$cone" -s 0 -t 348 --method fmm --out "$work/p.ply"
+
+expect "missing mesh" 2 "cannot open mesh file" -- "$depath" solve "$work/nope.off" -s 0 -t 1
+expect "unknown format" 2 "unknown mesh format" -- "$depath" solve "$work/p.json" -s 0 -t 1
+expect "source out of range" 2 "source vertex 99999 is out of range" -- "$depath" solve "$cone" -s 99999 -t 1
+expect "s == t" 2 "same vertex" -- "$depath" solve "$cone" -s 5 -t 5
+expect "population" 2 "population must be at least 4" -- "$depath" solve "$cone" -s 0 -t 5 --population 3
+expect "F" 2 "F must be in (0, 2]" -- "$depath" solve "$cone" -s 0 -t 5 --F 3
+expect "CR" 2 "CR must be in [0, 1]" -- "$depath" solve "$cone" -s 0 -t 5 --CR -0.1
+expect "generations" 2 "generations must be at least 1" -- "$depath" solve "$cone" -s 0 -t 5 --generations 0
+expect "energy name" 2 "unknown energy" -- "$depath" solve "$cone" -s 0 -t 5 --energy magnetic
+expect "method name" 2 "unknown method" -- "$depath" solve "$cone" -s 0 -t 5 --method astar
+printf '1\n2\n3\n' > "$work/short.density"
+expect "density length" 2 "density has 3 values but the mesh has 1153" -- \
+  "$depath" solve "$cone" -s 0 -t 5 --density "$work/short.density"
+expect "output extension checked before solving" 2 "the output extension must be" -- \
+  "$depath" solve "$cone" -s 0 -t 5 --out "$work/p.txt"
+printf 'OFF\n1000000000 1 0\n0 0 0\n' > "$work/lying.off"
+expect "lying header" 2 "truncated or malformed" -- "$depath" solve "$work/lying.off" -s 0 -t 1
+printf '' > "$work/empty.obj"
+expect "empty file" 2 "empty" -- "$depath" solve "$work/empty.obj" -s 0 -t 1
+expect "generate + solve" 0 "wrote" -- "$depath" generate grid --n 11 --out "$work/g.obj"
+expect "solve on generated grid" 0 "energy" -- "$depath" solve "$work/g.obj" -s 0 -t 120 --method fmm
+
+echo "cli: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

@@ -2,6 +2,7 @@
 
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
+#include "unary_call.hpp"
 
 #include <mutex>
 
@@ -99,21 +100,6 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
   bool finished_ = false;
   bool sent_terminal_ = false;
 };
-
-template <class Fn>
-grpc::ServerUnaryReactor* unary(ServiceContext& ctx, grpc::CallbackServerContext* context, bool admit, Fn&& fn) {
-  auto* reactor = context->DefaultReactor();
-  grpc::Status status = admit ? ctx.admit(context) : ctx.authenticate(context);
-  if (status.ok()) {
-    try {
-      fn();
-    } catch (...) {
-      status = current_exception_status();
-    }
-  }
-  reactor->Finish(status);
-  return reactor;
-}
 
 }  // namespace
 

@@ -4,6 +4,7 @@
 #include "depath/mesh_io.hpp"
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
+#include "unary_call.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -110,21 +111,6 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   bool have_header_ = false;
   std::string name_, format_, bytes_;
 };
-
-template <class Fn>
-grpc::ServerUnaryReactor* unary(ServiceContext& ctx, grpc::CallbackServerContext* context, bool admit, Fn&& fn) {
-  auto* reactor = context->DefaultReactor();
-  grpc::Status status = admit ? ctx.admit(context) : ctx.authenticate(context);
-  if (status.ok()) {
-    try {
-      fn();
-    } catch (...) {
-      status = current_exception_status();
-    }
-  }
-  reactor->Finish(status);
-  return reactor;
-}
 
 }  // namespace
 

@@ -46,7 +46,8 @@ RUN apt-get update \
 COPY --from=builder /out/depathd /out/depath /usr/local/bin/
 # Fixed numeric ids so Kubernetes can verify runAsNonRoot; fail the build if any
 # library is still missing rather than at container start.
-RUN useradd --system --uid 10001 --user-group --home-dir /var/lib/depath \
+RUN groupadd --gid 10001 depath \
+ && useradd --uid 10001 --gid 10001 --no-create-home --home-dir /var/lib/depath \
             --shell /usr/sbin/nologin depath \
  && install -d -o depath -g depath -m 0750 /var/lib/depath \
  && ! ldd /usr/local/bin/depathd /usr/local/bin/depath | grep 'not found'

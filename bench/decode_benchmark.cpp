@@ -11,6 +11,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -58,6 +59,13 @@ void full_march(benchmark::State& state, std::string name) {
       benchmark::Counter(double(f.mesh->num_vertices()) * state.iterations(), benchmark::Counter::kIsRate);
 }
 
+// A far-away target: the last vertex of the file's main component.
+int far_target(const depath::Mesh& mesh, int source) {
+  int target = mesh.num_vertices() - 1;
+  while (target > 0 && (mesh.component(target) != mesh.component(source) || !mesh.is_referenced(target))) --target;
+  return target;
+}
+
 void decode_to_target(benchmark::State& state, std::string name, bool uniform) {
   Fixture& f = fixture(name);
   depath::PathDecoder decoder(*f.stencils);
@@ -67,16 +75,30 @@ void decode_to_target(benchmark::State& state, std::string name, bool uniform) {
   const std::vector<double> ones(f.mesh->num_vertices(), 1.0);
   const std::vector<double>& rho = uniform ? ones : f.density;
   depath::SurfacePath path;
-  // A far-away target: the last vertex of the file's main component.
   const int source = 0;
-  int target = f.mesh->num_vertices() - 1;
-  while (target > 0 && (f.mesh->component(target) != f.mesh->component(source) || !f.mesh->is_referenced(target)))
-    --target;
+  const int target = far_target(*f.mesh, source);
   double e = 0;
   for (auto _ : state) {
     decoder.decode(rho, source, target, path);
     e = energy->evaluate(path);
     benchmark::DoNotOptimize(e);
+  }
+  state.counters["path_points"] = double(path.points.size());
+  state.counters["marched"] = decoder.fast_marching().num_final();
+}
+
+// What DE does per trial: decode_log (densities as logarithms, exponentiated on the fly).
+void decode_log_to_target(benchmark::State& state, std::string name) {
+  Fixture& f = fixture(name);
+  depath::PathDecoder decoder(*f.stencils);
+  std::vector<double> log_density(f.density.size());
+  for (size_t i = 0; i < log_density.size(); ++i) log_density[i] = std::log(f.density[i]);
+  depath::SurfacePath path;
+  const int source = 0;
+  const int target = far_target(*f.mesh, source);
+  for (auto _ : state) {
+    decoder.decode_log(log_density, source, target, path);
+    benchmark::DoNotOptimize(path.points.data());
   }
   state.counters["path_points"] = double(path.points.size());
   state.counters["marched"] = decoder.fast_marching().num_final();
@@ -90,6 +112,8 @@ int register_all() {
     benchmark::RegisterBenchmark((std::string("decode_uniform/") + m).c_str(), decode_to_target, std::string(m), true)
         ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark((std::string("decode_random/") + m).c_str(), decode_to_target, std::string(m), false)
+        ->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark((std::string("decode_log/") + m).c_str(), decode_log_to_target, std::string(m))
         ->Unit(benchmark::kMillisecond);
   }
   return 0;

@@ -1,32 +1,58 @@
 #include "depath/fast_marching.hpp"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 
 namespace depath {
 
+// Density sources for march(): get(v, state) is v's density for a vertex about to be
+// updated, final(v) for one already reached (trial or final).
+struct FastMarching::DirectDensity {
+  const double* rho;
+  double get(int v, uint8_t) const { return rho[v]; }
+  double final(int v) const { return rho[v]; }
+  void touch(int) const {}
+};
+
+// exp() only for the vertices the march reaches (an early-stopped decode reaches a
+// fraction of the mesh), cached in rho_ the first time a vertex is seen.
+struct FastMarching::LazyLogDensity {
+  const double* log_rho;
+  size_t size;
+  double* rho;
+  double compute(int v) const {
+    return size_t(v) < size ? std::clamp(std::exp(log_rho[v]), DBL_MIN, DBL_MAX) : 0.0;
+  }
+  double get(int v, uint8_t state) const { return state == kFar ? (rho[v] = compute(v)) : rho[v]; }
+  double final(int v) const { return rho[v]; }
+  void touch(int v) const { rho[v] = compute(v); }
+};
+
 FastMarching::FastMarching(const FastMarchingStencils& stencils) : stencils_(stencils) {
   const int nv = stencils.mesh().num_vertices();
   u_.assign(nv, std::numeric_limits<double>::infinity());
   state_.assign(nv, kFar);
   order_.assign(nv, INT32_MAX);
+  accepted_.assign(nv, 0);
+  touched_.reserve(nv);
   heap_pos_.assign(nv, -1);
-  heap_.reserve(nv);
+  heap_store_.resize(nv + 8);
 }
 
 void FastMarching::push_or_decrease(int v, double value) {
   int i = heap_pos_[v];
   if (i < 0) {
-    i = static_cast<int>(heap_.size());
-    heap_.push_back({value, v});
+    i = heap_size_++;
     state_[v] = kTrial;
+    touched_.push_back(v);
   }
   u_[v] = value;
   // Sift up (values only decrease).
   while (i > 0) {
-    const int parent = (i - 1) >> 1;
+    const int parent = (i - 1) >> 2;
     if (heap_[parent].key <= value) break;
     heap_[i] = heap_[parent];
     heap_pos_[heap_[i].vertex] = i;
@@ -37,62 +63,113 @@ void FastMarching::push_or_decrease(int v, double value) {
 }
 
 int FastMarching::pop_min() {
-  const int top = heap_[0].vertex;
+  HeapEntry* const h = heap_;
+  const int top = h[0].vertex;
   heap_pos_[top] = -1;
-  const HeapEntry last = heap_.back();
-  heap_.pop_back();
-  const int n = static_cast<int>(heap_.size());
+  const int n = --heap_size_;
   if (n > 0) {
+    const HeapEntry last = h[n];
     // Sift `last` down from the root.
     int i = 0;
     for (;;) {
-      int child = 2 * i + 1;
-      if (child >= n) break;
-      if (child + 1 < n && heap_[child + 1].key < heap_[child].key) ++child;
-      if (heap_[child].key >= last.key) break;
-      heap_[i] = heap_[child];
-      heap_pos_[heap_[i].vertex] = i;
-      i = child;
+      const int c = 4 * i + 1;
+      if (c >= n) break;
+      int m;
+      if (c + 3 < n) {
+        const int m01 = h[c + 1].key < h[c].key ? c + 1 : c;
+        const int m23 = h[c + 3].key < h[c + 2].key ? c + 3 : c + 2;
+        m = h[m23].key < h[m01].key ? m23 : m01;
+      } else {
+        m = c;
+        for (int k = c + 1; k < n; ++k)
+          if (h[k].key < h[m].key) m = k;
+      }
+      if (h[m].key >= last.key) break;
+      h[i] = h[m];
+      heap_pos_[h[i].vertex] = i;
+      i = m;
     }
-    heap_[i] = last;
+    h[i] = last;
     heap_pos_[last.vertex] = i;
   }
   return top;
 }
 
-void FastMarching::run(std::span<const double> density, int source, int stop_vertex) {
-  const Mesh& mesh = stencils_.mesh();
-  const double* rho = density.data();
-  std::fill(u_.begin(), u_.end(), std::numeric_limits<double>::infinity());
-  std::fill(state_.begin(), state_.end(), kFar);
-  std::fill(order_.begin(), order_.end(), INT32_MAX);
-  for (const HeapEntry& e : heap_) heap_pos_[e.vertex] = -1;
-  heap_.clear();
+void FastMarching::reset() {
+  const int nv = static_cast<int>(u_.size());
+  if (touched_.size() * 4 > size_t(nv)) {
+    std::fill(u_.begin(), u_.end(), std::numeric_limits<double>::infinity());
+    std::fill(state_.begin(), state_.end(), kFar);
+    std::fill(order_.begin(), order_.end(), INT32_MAX);
+    std::fill(heap_pos_.begin(), heap_pos_.end(), -1);
+  } else {
+    for (const int32_t v : touched_) {
+      u_[v] = std::numeric_limits<double>::infinity();
+      state_[v] = kFar;
+      order_[v] = INT32_MAX;
+      heap_pos_[v] = -1;
+    }
+  }
+  touched_.clear();
+  heap_size_ = 0;
   num_final_ = 0;
+  // Align so that the children 4i+1 .. 4i+4 of every node share a cache line.
+  const auto addr = reinterpret_cast<uintptr_t>(heap_store_.data() + 1);
+  heap_ = heap_store_.data() + ((64 - addr % 64) % 64) / sizeof(HeapEntry);
+}
 
+void FastMarching::run(std::span<const double> density, int source, int stop_vertex) {
+  DirectDensity rho{density.data()};
+  march(rho, source, stop_vertex);
+}
+
+void FastMarching::run_log(std::span<const double> log_density, int source, int stop_vertex) {
+  rho_.resize(u_.size());
+  LazyLogDensity rho{log_density.data(), log_density.size(), rho_.data()};
+  march(rho, source, stop_vertex);
+}
+
+template <class Density>
+void FastMarching::march(Density& rho, int source, int stop_vertex) {
+  const Mesh& mesh = stencils_.mesh();
+  reset();
+  const FastMarchingStencils::Tri* const tris = stencils_.tris();
+  double* const u = u_.data();
+  const uint8_t* const state = state_.data();
+
+  rho.touch(source);
   push_or_decrease(source, 0.0);
   bool stop_reached = false;
-  while (!heap_.empty()) {
+  while (heap_size_ > 0) {
     const int x = pop_min();
     state_[x] = kFinal;
+    accepted_[num_final_] = x;
     order_[x] = num_final_++;
-    const double ux = u_[x];
-    const double rx = rho[x];
+    const double ux = u[x];
+    const double rx = rho.final(x);
+    if (heap_size_ > 0) {
+      // The next vertex to accept is most likely the new top: fetch its stencil early.
+      const auto* next = stencils_.groups_begin(heap_[0].vertex);
+      __builtin_prefetch(next);
+      __builtin_prefetch(reinterpret_cast<const char*>(next) + 64);
+    }
 
-    for (auto* up = stencils_.updates_begin(x), *end = stencils_.updates_end(x); up != end; ++up) {
-      const int c = up->target;
-      if (state_[c] == kFinal) continue;
-      const double rc = rho[c];
+    for (auto* g = stencils_.groups_begin(x), *end = stencils_.groups_end(x); g != end; ++g) {
+      const int c = g->target;
+      const uint8_t sc = state[c];
+      if (sc == kFinal) continue;
+      const double rc = rho.get(c, sc);
       // Straight segment from x: length times the mean density at its ends.
-      double best = ux + 0.5 * (rc + rx) * double(up->len_this);
-      const int y = up->other;
-      if (y >= 0 && state_[y] == kFinal) {
-        const double uy = u_[y];
-        const double ry = rho[y];
+      double best = ux + 0.5 * (rc + rx) * double(g->len);
+      for (auto* t = tris + g->tri_begin, *tend = tris + g->tri_end; t != tend; ++t) {
+        const int y = t->other;
+        if (state[y] != kFinal) continue;
+        const double uy = u[y];
+        const double ry = rho.final(y);
         const double delta = uy - ux;
         // Semi-Lagrangian triangle update: minimise u(p) + F |p - c| over p on segment x-y,
         // F the mean density of the segment p-c (refined once at the minimiser).
-        const double lambda0 = up->lambda0, height = up->height, inv_len2 = up->inv_len2;
+        const double lambda0 = t->lambda0, height = t->height, inv_len2 = t->inv_len2;
         double lambda = std::clamp(lambda0, 0.0, 1.0);
         for (int pass = 0; pass < 2; ++pass) {
           const double F = 0.5 * (rc + rx + lambda * (ry - rx));
@@ -107,18 +184,18 @@ void FastMarching::run(std::span<const double> density, int source, int stop_ver
             break;
           }
         }
-        best = std::min(best, uy + 0.5 * (rc + ry) * double(up->len_other));
+        // (The straight segment from y was tried when y was accepted.)
       }
       // Keep acceptance order monotone (Dijkstra invariant): nothing below what is final.
       best = std::max(best, ux);
-      if (best < u_[c]) push_or_decrease(c, best);
+      if (best < u[c]) push_or_decrease(c, best);
     }
 
     if (x == stop_vertex) stop_reached = true;
     if (stop_reached) {
       bool ring_final = true;
       for (const int* n = mesh.vertex_neighbors_begin(stop_vertex); n != mesh.vertex_neighbors_end(stop_vertex); ++n) {
-        if (state_[*n] != kFinal) {
+        if (state[*n] != kFinal) {
           ring_final = false;
           break;
         }

@@ -114,45 +114,70 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     }
   }
 
-  // Store each planar update twice, once at each support vertex (the one whose
-  // acceptance triggers it), grouped by that vertex (CSR).
-  offset_.assign(nv + 1, 0);
-  for (const auto& p : planar) {
-    ++offset_[p.x + 1];
-    ++offset_[p.y + 1];
-  }
-  for (const auto& [x, c] : edge_only) ++offset_[x + 1];
-  for (int v = 0; v < nv; ++v) offset_[v + 1] += offset_[v];
-  updates_.resize(offset_[nv]);
-  std::vector<int> fill(offset_.begin(), offset_.end() - 1);
+  // Each planar update is triggered by either support vertex (whichever is accepted
+  // last), so it is stored at both; then grouped by accepting vertex (CSR) and, within a
+  // vertex, by target (stable: the face order is kept inside a group).
   // The straight "edge" update along c-x is only a surface path when c-x is a mesh edge;
   // an infinite length disables it for unfolded vertices, so every vertex takes its first
   // value from a mesh neighbour (the back-trace relies on that).
   constexpr float kNoEdge = std::numeric_limits<float>::infinity();
-  auto store = [&](int c, int x, int y, const Vec2& px, const Vec2& py, bool x_near, bool y_near) {
+  struct Raw {
+    int x, c;
+    float len;  // |c - x| or kNoEdge
+    bool has_tri;
+    Tri tri;
+  };
+  std::vector<Raw> raw;
+  raw.reserve(2 * planar.size() + edge_only.size());
+  auto store = [&](int c, int x, int y, const Vec2& px, const Vec2& py, bool x_near) {
     const Vec2 e = py - px;
     const double len2 = e.squaredNorm();
-    Update u;
-    u.target = c;
-    u.other = y;
-    u.len_this = x_near ? float(px.norm()) : kNoEdge;
-    u.len_other = y_near ? float(py.norm()) : kNoEdge;
-    u.inv_len2 = len2 > 0 ? float(1.0 / len2) : 0.0f;
-    u.lambda0 = len2 > 0 ? float(-px.dot(e) / len2) : 0.0f;
-    u.height = len2 > 0 ? float(std::abs(cross2(e, -px)) / std::sqrt(len2)) : 0.0f;
-    updates_[fill[x]++] = u;
+    Raw r;
+    r.x = x;
+    r.c = c;
+    r.len = x_near ? float(px.norm()) : kNoEdge;
+    r.has_tri = true;
+    r.tri.other = y;
+    r.tri.inv_len2 = len2 > 0 ? float(1.0 / len2) : 0.0f;
+    r.tri.lambda0 = len2 > 0 ? float(-px.dot(e) / len2) : 0.0f;
+    r.tri.height = len2 > 0 ? float(std::abs(cross2(e, -px)) / std::sqrt(len2)) : 0.0f;
+    raw.push_back(r);
   };
   for (const auto& p : planar) {
-    store(p.c, p.x, p.y, p.px, p.py, p.x_is_neighbor, p.y_is_neighbor);
-    store(p.c, p.y, p.x, p.py, p.px, p.y_is_neighbor, p.x_is_neighbor);
+    store(p.c, p.x, p.y, p.px, p.py, p.x_is_neighbor);
+    store(p.c, p.y, p.x, p.py, p.px, p.y_is_neighbor);
   }
   for (const auto& [x, c] : edge_only) {
-    Update u{};
-    u.target = c;
-    u.other = -1;
-    u.len_this = float((mesh.position(c) - mesh.position(x)).norm());
-    updates_[fill[x]++] = u;
+    Raw r{};
+    r.x = x;
+    r.c = c;
+    r.len = float((mesh.position(c) - mesh.position(x)).norm());
+    r.has_tri = false;
+    raw.push_back(r);
   }
+  std::stable_sort(raw.begin(), raw.end(), [](const Raw& a, const Raw& b) { return a.x != b.x ? a.x < b.x : a.c < b.c; });
+
+  offset_.assign(nv + 1, 0);
+  groups_.clear();
+  tris_.clear();
+  tris_.reserve(raw.size());
+  size_t k = 0;
+  for (int x = 0; x < nv; ++x) {
+    offset_[x] = static_cast<int>(groups_.size());
+    while (k < raw.size() && raw[k].x == x) {
+      Group g;
+      g.target = raw[k].c;
+      g.len = kNoEdge;
+      g.tri_begin = static_cast<int32_t>(tris_.size());
+      for (; k < raw.size() && raw[k].x == x && raw[k].c == g.target; ++k) {
+        g.len = std::min(g.len, raw[k].len);
+        if (raw[k].has_tri) tris_.push_back(raw[k].tri);
+      }
+      g.tri_end = static_cast<int32_t>(tris_.size());
+      groups_.push_back(g);
+    }
+  }
+  offset_[nv] = static_cast<int>(groups_.size());
 }
 
 }  // namespace depath

@@ -9,7 +9,7 @@
 namespace depath {
 
 PathDecoder::PathDecoder(const FastMarchingStencils& stencils)
-    : fm_(stencils), density_(stencils.mesh().num_vertices()) {}
+    : fm_(stencils) {}
 
 bool PathDecoder::decode(std::span<const double> density, int source, int target, SurfacePath& out) {
   fm_.run(density, source, target);
@@ -17,9 +17,9 @@ bool PathDecoder::decode(std::span<const double> density, int source, int target
 }
 
 bool PathDecoder::decode_log(std::span<const double> log_density, int source, int target, SurfacePath& out) {
-  const size_t n = std::min(log_density.size(), density_.size());
-  for (size_t i = 0; i < n; ++i) density_[i] = std::clamp(std::exp(log_density[i]), DBL_MIN, DBL_MAX);
-  return decode(density_, source, target, out);
+  // The densities are exponentiated lazily, only where the march reaches.
+  fm_.run_log(log_density, source, target);
+  return trace_steepest_descent(fm_, source, target, out);
 }
 
 }  // namespace depath

@@ -18,20 +18,27 @@ class FastMarchingStencils {
   explicit FastMarchingStencils(const Mesh& mesh);
   const Mesh& mesh() const { return mesh_; }
 
-  /// One update "target from (this vertex, other)", stored at the accepting vertex.
-  /// Geometry is kept in float: 28 bytes an update keeps the table cache-resident, and
-  /// float's 1e-7 relative error is far below the method's discretisation error.
-  struct Update {
-    int target;       ///< vertex whose value is updated
-    int other;        ///< second support vertex (must be final too), -1 for an edge-only update
+  /// The updates an accepting vertex x triggers, grouped by target c: one straight edge
+  /// candidate x -> c per group (shortest |c - x| over the faces, +inf when c-x is no mesh
+  /// edge) and the triangle updates "c from (x, other)". The edge candidate other -> c is
+  /// not repeated here: it was applied when `other` was accepted and always dominates.
+  /// Geometry is kept in float: the table stays cache-resident, and float's 1e-7 relative
+  /// error is far below the method's discretisation error.
+  struct Group {
+    int32_t target;     ///< vertex whose value is updated
+    float len;          ///< |target - x|, +inf when target-x is no mesh edge
+    int32_t tri_begin;  ///< triangle updates [tri_begin, tri_end) of tris()
+    int32_t tri_end;
+  };
+  struct Tri {
+    int32_t other;    ///< second support vertex (must be final too)
     float lambda0;    ///< foot of the perpendicular from target on the support line, as parameter
     float height;     ///< distance from target to the support line
-    float inv_len2;   ///< 1 / |other - this|^2 (in the unfolded plane)
-    float len_this;   ///< |target - this|, +inf when target-this is no mesh edge
-    float len_other;  ///< |target - other|, +inf when target-other is no mesh edge
+    float inv_len2;   ///< 1 / |other - x|^2 (in the unfolded plane)
   };
-  const Update* updates_begin(int v) const { return updates_.data() + offset_[v]; }
-  const Update* updates_end(int v) const { return updates_.data() + offset_[v + 1]; }
+  const Group* groups_begin(int v) const { return groups_.data() + offset_[v]; }
+  const Group* groups_end(int v) const { return groups_.data() + offset_[v + 1]; }
+  const Tri* tris() const { return tris_.data(); }
   /// Number of obtuse corners that were split with a virtual edge / left unsplit.
   int num_split_corners() const { return num_split_; }
   int num_unsplit_obtuse_corners() const { return num_unsplit_; }
@@ -39,7 +46,8 @@ class FastMarchingStencils {
  private:
   const Mesh& mesh_;
   std::vector<int> offset_;
-  std::vector<Update> updates_;
+  std::vector<Group> groups_;
+  std::vector<Tri> tris_;
   int num_split_ = 0;
   int num_unsplit_ = 0;
 };
@@ -60,6 +68,11 @@ class FastMarching {
   /// positive finite value per vertex.
   void run(std::span<const double> density, int source, int stop_vertex = -1);
 
+  /// Same with the density given as logarithms: vertex v's density is
+  /// clamp(exp(log_density[v]), DBL_MIN, DBL_MAX) (0 past the end of the span), computed
+  /// only for the vertices the march reaches.
+  void run_log(std::span<const double> log_density, int source, int stop_vertex = -1);
+
   /// Value at v: final, tentative (reached but not final) or +infinity.
   double value(int v) const { return u_[v]; }
   const std::vector<double>& values() const { return u_; }
@@ -67,10 +80,17 @@ class FastMarching {
   /// Position of v in the acceptance order (0 for the source), or INT32_MAX.
   int32_t order(int v) const { return order_[v]; }
   int num_final() const { return num_final_; }
+  /// The final vertices in acceptance order.
+  std::span<const int32_t> accepted() const { return {accepted_.data(), size_t(num_final_)}; }
   const FastMarchingStencils& stencils() const { return stencils_; }
 
  private:
   static constexpr uint8_t kFar = 0, kTrial = 1, kFinal = 2;
+  struct DirectDensity;
+  struct LazyLogDensity;
+  template <class Density>
+  void march(Density& density, int source, int stop_vertex);
+  void reset();
   void push_or_decrease(int v, double value);
   int pop_min();
 
@@ -78,11 +98,18 @@ class FastMarching {
   std::vector<double> u_;
   std::vector<uint8_t> state_;
   std::vector<int32_t> order_;
+  std::vector<int32_t> accepted_;  // final vertices in acceptance order
+  std::vector<int32_t> touched_;   // every vertex given a finite value this run
+  std::vector<double> rho_;        // densities computed by run_log (valid where reached)
   struct HeapEntry {
     double key;  // copy of u_[vertex]: sifting compares without an indirection
     int32_t vertex;
   };
-  std::vector<HeapEntry> heap_;    // binary min-heap on key
+  // 4-ary min-heap on key; heap_ points into heap_store_ (set at the start of each run)
+  // so that each group of four siblings shares one 64-byte cache line.
+  std::vector<HeapEntry> heap_store_;
+  HeapEntry* heap_ = nullptr;
+  int heap_size_ = 0;
   std::vector<int32_t> heap_pos_;  // position of each vertex in heap_, or -1
   int num_final_ = 0;
 };

@@ -25,7 +25,6 @@ class PathDecoder {
 
  private:
   FastMarching fm_;
-  std::vector<double> density_;
 };
 
 }  // namespace depath

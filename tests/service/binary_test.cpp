@@ -204,17 +204,17 @@ TEST_F(BinaryTest, SigtermMidJobEndsWatchersAndExitsPromptly) {
   // A watcher in the background.
   const fs::path watch_out = dir_ / "watch.txt";
   const fs::path watch_rc = dir_ / "watch.rc";
+  // The watcher streams JSON lines into a file as they arrive, so the test can tell when it
+  // is attached (under load a process start can take longer than the job's first steps).
   std::thread watcher([&] {
-    const auto w = run_command(client("watch " + job + " --json", d));
-    std::ofstream(watch_out) << w.output;
+    const auto w = run_command(client("watch " + job + " --json", d) + " > " + watch_out.string());
     std::ofstream(watch_rc) << w.rc;
   });
-  // Wait until the job makes progress.
-  for (int i = 0; i < 500; ++i) {
-    r = run_command(client("jobs --json", d));
-    if (r.output.find("\"generation\"") != std::string::npos) break;
+  for (int i = 0; i < 1000; ++i) {
+    if (read_text(watch_out).find("\"progress\"") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  EXPECT_NE(read_text(watch_out).find("\"progress\""), std::string::npos) << "the watcher never attached";
   const auto [rc, seconds] = d.terminate();
   watcher.join();
   EXPECT_EQ(rc, 0) << d.log();

@@ -230,15 +230,22 @@ TEST(DeMethod, UnknownStrategyIsAnInvalidArgumentNamingTheValidOnes) {
   const Mesh mesh = grid(5, GridHeight::flat);
   JobSpec job = de_job(0, 24, 8, 3);
   job.de.strategy = "best2exp";
-  try {
-    solve(mesh, job);
-    FAIL() << "no error";
-  } catch (const Error& e) {
-    EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
-    const std::string m = e.what();
-    EXPECT_NE(m.find("best2exp"), std::string::npos) << m;
-    EXPECT_NE(m.find("rand1bin"), std::string::npos) << m;
-    EXPECT_NE(m.find("shade"), std::string::npos) << m;
+  // Rejected by the job check itself (before any fast marching), and so by solve().
+  for (const bool through_solve : {false, true}) {
+    try {
+      if (through_solve) {
+        solve(mesh, job);
+      } else {
+        validate_job_options(mesh, job);
+      }
+      FAIL() << "no error";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.code(), ErrorCode::invalid_argument);
+      const std::string m = e.what();
+      EXPECT_NE(m.find("best2exp"), std::string::npos) << m;
+      EXPECT_NE(m.find("rand1bin"), std::string::npos) << m;
+      EXPECT_NE(m.find("shade"), std::string::npos) << m;
+    }
   }
 }
 

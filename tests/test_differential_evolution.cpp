@@ -309,6 +309,75 @@ TEST(DifferentialEvolution, SeedPointIsAnAgentSoTheResultIsNeverWorse) {
   for (int i = 5; i < 10; ++i) EXPECT_GT(initial_energies[i], initial_energies[1]);
 }
 
+// The perturbations of the seed point come from DeProblem::perturb when it is given.
+TEST(DifferentialEvolution, SeededAgentsUseTheProblemsPerturbation) {
+  ThreadPool pool(1);
+  DeSettings s = settings(8, 1);
+  s.seed_point.assign(4, -0.5);
+  DeProblem problem = make_problem(4, sphere);
+  std::vector<double> amplitudes;
+  problem.perturb = [&](DeRandom&, double amplitude, std::span<double> x) {
+    amplitudes.push_back(amplitude);
+    x[0] += amplitude;
+  };
+  std::vector<double> initial(8, -1.0);
+  int calls = 0;
+  problem.evaluate = [&](int, int index, std::span<const double> x) {
+    if (calls++ < 8) initial[index] = sphere(x);
+    return sphere(x);
+  };
+  run_differential_evolution(problem, s, pool);
+  ASSERT_EQ(amplitudes.size(), 3u);  // agents 1..3 of ceil(0.5 * 8) seeded
+  EXPECT_DOUBLE_EQ(amplitudes.front(), 0.02);
+  EXPECT_DOUBLE_EQ(amplitudes.back(), 1.0);
+  for (int i = 1; i < 4; ++i) EXPECT_NEAR(initial[i], amplitudes[i - 1] * amplitudes[i - 1], 1e-12);
+}
+
+// Restart on collapse: a population that agrees on its energy is replaced by a fresh one
+// (one generation's evaluations), the best is kept aside and never lost, the run goes on.
+TEST(DifferentialEvolution, RestartsACollapsedPopulationKeepingTheBest) {
+  for (const std::string strategy : {"rand1bin", "shade"}) {
+    std::vector<DeResult> results;
+    for (int workers : {0, 2}) {
+      ThreadPool pool(workers);
+      DeSettings s = settings(8, 200, strategy, 5);
+      s.restart = true;
+      s.restart_tolerance = 1e-2;
+      std::vector<DeGenerationReport> reports;
+      DeHooks hooks;
+      hooks.on_generation = [&](const DeGenerationReport& r) { reports.push_back(r); };
+      const DeResult r = run_differential_evolution(make_problem(5, rastrigin), s, pool, hooks);
+      EXPECT_EQ(r.stop_reason, "max_generations") << strategy;
+      EXPECT_EQ(r.generations, 200) << strategy;
+      EXPECT_EQ(r.evaluations, 8 * 201) << strategy;
+      EXPECT_GE(r.restarts, 1) << strategy;
+      int restarted = 0;
+      for (size_t g = 0; g < reports.size(); ++g) {
+        restarted += reports[g].restarted;
+        if (g > 0) EXPECT_LE(reports[g].best_energy, reports[g - 1].best_energy);
+      }
+      EXPECT_EQ(restarted, r.restarts) << strategy;
+      ASSERT_EQ(r.best.size(), 5u);
+      EXPECT_EQ(rastrigin(r.best), r.best_energy) << strategy;  // also when kept aside
+      results.push_back(r);
+    }
+    EXPECT_EQ(results[1].best, results[0].best) << strategy;
+    EXPECT_EQ(results[1].restarts, results[0].restarts) << strategy;
+  }
+  // Without restart, an identical population stops ("converged"); with it, it goes on.
+  ThreadPool pool(1);
+  DeProblem problem = make_problem(3, sphere);
+  problem.initialize = [](int, DeRandom&, std::span<double> x) { std::fill(x.begin(), x.end(), 0.25); };
+  DeSettings s = settings(5, 6, "shade");
+  s.restart = true;
+  const DeResult r = run_differential_evolution(problem, s, pool);
+  EXPECT_EQ(r.stop_reason, "max_generations");
+  EXPECT_EQ(r.generations, 6);
+  EXPECT_GE(r.restarts, 1);
+  EXPECT_DOUBLE_EQ(r.best_energy, 3 * 0.75 * 0.75);
+  EXPECT_EQ(r.best, std::vector<double>(3, 0.25));
+}
+
 TEST(DifferentialEvolution, RejectsBadSettingsNamingTheProblem) {
   ThreadPool pool(0);
   const DeProblem problem = make_problem(3, sphere);
@@ -334,6 +403,9 @@ TEST(DifferentialEvolution, RejectsBadSettingsNamingTheProblem) {
   s = settings(10, 10);
   s.stall = -1;
   EXPECT_NE(message(s).find("stall"), std::string::npos);
+  s = settings(10, 10);
+  s.restart_tolerance = -1.0;
+  EXPECT_NE(message(s).find("restart tolerance"), std::string::npos);
   s = settings(10, 10, "best2exp");
   const std::string m = message(s);
   EXPECT_NE(m.find("best2exp"), std::string::npos);

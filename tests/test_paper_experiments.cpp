@@ -89,23 +89,30 @@ TEST(PaperExperiments, VectorFieldRotation) {
   // s = (0.45, -0.6) and t = (-0.45, -0.6) on the circle of radius 0.75: the optimum is the
   // 73.7-degree arc below the chord; descent from the chord (symmetric about the y axis)
   // stays stuck. The best mesh path is not 0: chords of the arc cross the field lines; the
-  // path through the arc's edge crossings scores 0.0096. Measured with seeds 1-5:
-  // 0.0106 - 0.0194 (seed 1: 0.0188), descent 0.346.
+  // path through the arc's edge crossings scores 0.0096. A flattened arc (bottom on the
+  // grid line y = -0.7, 0.107) traps a population of 20 early; DE must be robust to it,
+  // for every seed. Measured with seeds 1-30: 0.0096 - 0.0178 (before smooth seeding and
+  // restarts, 6 of seeds 1-10 ended at 0.107 or just above 0.02); descent 0.346.
   JobSpec job = de_job(grid_vertex(29, 8), grid_vertex(11, 8), 600);
   job.energy.kind = EnergyKind::vector_field;
   job.energy.field = rotation_field(mesh, Vec3::Zero(), 2);
-  const SolveResult de = solve(mesh, job);
-  expect_valid_path(mesh, de.path, job.source, job.target);
   const SolveResult descent = solve(mesh, with_method(job, Method::descent));
-  const double de_norm = metric(de, "normalized_energy"), descent_norm = metric(descent, "normalized_energy");
-  std::printf("rotation: de+refine normalized %.4f (length %.4f, arc %.4f), descent %.4f, fmm energy %.4f\n", de_norm,
-              de.length, 0.75 * 2 * std::atan2(0.45, 0.6), descent_norm, de.fmm_energy);
-  EXPECT_LE(de_norm, 0.02);
-  EXPECT_LT(de_norm, descent_norm);
-  // It is the arc: every point within a grid spacing of the circle.
-  double worst = 0.0;
-  for (const Vec3& p : path_positions(mesh, de.path)) worst = std::max(worst, std::abs(p.norm() - 0.75));
-  EXPECT_LT(worst, 0.05);
+  const double descent_norm = metric(descent, "normalized_energy");
+  for (uint64_t seed = 1; seed <= 10; ++seed) {
+    job.seed = seed;
+    const SolveResult de = solve(mesh, job);
+    expect_valid_path(mesh, de.path, job.source, job.target);
+    const double de_norm = metric(de, "normalized_energy");
+    std::printf("rotation seed %d: de+refine normalized %.4f (length %.4f, arc %.4f), descent %.4f, fmm energy %.4f\n",
+                static_cast<int>(seed), de_norm, de.length, 0.75 * 2 * std::atan2(0.45, 0.6), descent_norm,
+                de.fmm_energy);
+    EXPECT_LE(de_norm, 0.02) << "seed " << seed;
+    EXPECT_LT(de_norm, descent_norm) << "seed " << seed;
+    // It is the arc: every point within a grid spacing of the circle.
+    double worst = 0.0;
+    for (const Vec3& p : path_positions(mesh, de.path)) worst = std::max(worst, std::abs(p.norm() - 0.75));
+    EXPECT_LT(worst, 0.05) << "seed " << seed;
+  }
 }
 
 TEST(PaperExperiments, VectorFieldConverge) {

@@ -100,6 +100,9 @@ void validate_de_settings(const DeSettings& s, int dimension) {
          std::to_string(dimension));
   }
   if (!(s.seed_fraction >= 0.0 && s.seed_fraction <= 1.0)) fail("DE seed fraction must be in [0, 1]");
+  if (!(s.restart_tolerance >= 0.0 && s.restart_tolerance < 1.0)) {
+    fail("DE restart tolerance must be in [0, 1) (got " + str(s.restart_tolerance) + ")");
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -118,6 +121,14 @@ constexpr uint64_t kEndStream = ~uint64_t{0};
 constexpr double kMinAmplitude = 0.02;
 constexpr double kMaxAmplitude = 1.0;
 
+void perturb(const DeProblem& problem, DeRandom& rng, double amplitude, std::span<double> x) {
+  if (problem.perturb) {
+    problem.perturb(rng, amplitude, x);
+    return;
+  }
+  for (double& v : x) v += amplitude * (2.0 * rng.uniform() - 1.0);
+}
+
 void initialize_agent(const DeProblem& problem, const DeSettings& s, int seeded, int i, DeRandom& rng,
                       std::span<double> x) {
   if (i < seeded) {
@@ -125,7 +136,7 @@ void initialize_agent(const DeProblem& problem, const DeSettings& s, int seeded,
     if (i == 0) return;
     const double ratio = seeded > 2 ? static_cast<double>(i - 1) / (seeded - 2) : 0.0;
     const double amplitude = kMinAmplitude * std::pow(kMaxAmplitude / kMinAmplitude, ratio);
-    for (double& v : x) v += amplitude * (2.0 * rng.uniform() - 1.0);
+    perturb(problem, rng, amplitude, x);
     return;
   }
   if (problem.initialize) {
@@ -204,19 +215,39 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
   const de::PopulationView view{N, n, agents.data(), energies.data()};
   result.stop_reason = "max_generations";
   int since_improvement = 0;
+  bool restart_pending = false;
+  std::vector<double> saved_best;  // the best, while a restart keeps it out of the population
   for (int g = 1; g <= s.generations; ++g) {
     if (check_cancel()) {
       result.stop_reason = "cancelled";
       break;
     }
     DeRandom begin_rng(s.seed, static_cast<uint64_t>(g), kBeginStream);
+    const bool restarting = restart_pending;
+    restart_pending = false;
+    if (restarting) {
+      strategy->restart();
+      ++result.restarts;
+      // The best leaves the population: kept in it, it would pull every new agent back
+      // into its basin within a few generations (measured: restarts around the best
+      // escape far less often than fresh ones).
+      if (best >= 0) {
+        saved_best.assign(agents[best], agents[best] + n);
+        best = -1;
+      }
+    }
     strategy->begin_generation(view, begin_rng);
 
     std::fill(trial_done.begin(), trial_done.end(), 0);
     pool.parallel_for(N, [&](int slot, int i) {
       if (check_cancel()) return;
       DeRandom rng(s.seed, static_cast<uint64_t>(g), static_cast<uint64_t>(i));
-      strategy->make_trial(view, i, rng, std::span<double>(trials[i], static_cast<size_t>(n)));
+      const std::span<double> trial(trials[i], static_cast<size_t>(n));
+      if (restarting) {
+        initialize_agent(problem, s, seeded, i, rng, trial);  // as in generation 0, new streams
+      } else {
+        strategy->make_trial(view, i, rng, trial);
+      }
       trial_energies[i] = evaluate(slot, i, trials[i]);
       trial_done[i] = 1;
     });
@@ -227,13 +258,16 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
     bool improved = false;
     for (int i = 0; i < N; ++i) {
       parent_energies[i] = energies[i];
-      replaced[i] = trial_done[i] && trial_energies[i] < energies[i];
+      // A restart's new agents replace the old ones whatever their energy; they are no
+      // success of the strategy, so it sees them as not replaced.
+      const bool forced = restarting && trial_done[i];
+      replaced[i] = trial_done[i] && trial_energies[i] < energies[i] && !forced;
       complete = complete && trial_done[i];
       result.evaluations += trial_done[i];
-      if (!replaced[i]) continue;
+      if (!replaced[i] && !forced) continue;
       std::swap(agents[i], trials[i]);  // trials[i] now holds the parent (for the archive)
       energies[i] = trial_energies[i];
-      ++improvements;
+      if (!forced || energies[i] < parent_energies[i]) ++improvements;
       if (energies[i] < result.best_energy) {
         result.best_energy = energies[i];
         best = i;
@@ -270,6 +304,7 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
       report.evaluations = result.evaluations;
       report.improvements = improvements;
       report.best_index = best;
+      report.restarted = restarting;
       hooks.on_generation(report);
     }
 
@@ -277,6 +312,14 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
     if (s.stall > 0 && since_improvement >= s.stall) {
       result.stop_reason = "stalled";
       break;
+    }
+    if (s.restart) {
+      // Energies agree to a relative tolerance: the agents sit in one basin (for DE-Path
+      // usually on one decoded path) and will not leave it; restart next generation
+      // unless this was the last.
+      restart_pending = g < s.generations && std::isfinite(highest) &&
+                        highest - lowest <= s.restart_tolerance * std::abs(lowest);
+      continue;
     }
     // Every agent identical and nothing else to draw on: no difference vector is left,
     // no trial can differ from its parent any more.
@@ -286,7 +329,11 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
     }
   }
 
-  if (best >= 0) result.best.assign(agents[best], agents[best] + n);
+  if (best >= 0) {
+    result.best.assign(agents[best], agents[best] + n);
+  } else if (!saved_best.empty()) {
+    result.best = std::move(saved_best);
+  }
   return result;
 }
 

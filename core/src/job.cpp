@@ -1,7 +1,9 @@
 #include "depath/job.hpp"
 
+#include "depath/differential_evolution.hpp"
 #include "depath/error.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -55,6 +57,12 @@ void validate_job_options(const Mesh& mesh, const JobSpec& job) {
     invalid("F must be in (0, 2], got " + std::to_string(de.F));
   if (!std::isfinite(de.CR) || de.CR < 0.0 || de.CR > 1.0)
     invalid("CR must be in [0, 1], got " + std::to_string(de.CR));
+  const auto& strategies = de_strategy_names();
+  if (std::find(strategies.begin(), strategies.end(), de.strategy) == strategies.end()) {
+    std::string list;
+    for (const auto& name : strategies) list += (list.empty() ? "" : ", ") + name;
+    invalid("unknown DE strategy '" + de.strategy + "' (valid strategies: " + list + ")");
+  }
   if (job.threads < 0) invalid("threads must be >= 0 (0 = all cores), got " + std::to_string(job.threads));
   if (job.path_every < 0) invalid("path_every must be >= 0, got " + std::to_string(job.path_every));
 }

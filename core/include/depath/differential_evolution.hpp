@@ -13,7 +13,7 @@
 //     u_i replaces x_i if its energy is strictly lower (greedy selection).
 //   - Stops after `generations`, after `stall` generations without a strictly better best,
 //     when the population has collapsed to a single point ("converged"), or on
-//     cancellation.
+//     cancellation. With DeSettings::restart a collapsed population is restarted instead.
 //
 // Guarantees:
 //   - Reproducible: every random number is drawn from a counter-based stream keyed by
@@ -21,7 +21,8 @@
 //     bit-for-bit identical for a seed whatever the pool size, provided `evaluate` is a
 //     pure function of its vector.
 //   - Memory: the population and the trials (2 x N x n doubles); `shade` adds an archive
-//     of at most N/2 vectors. Nothing of size n is allocated per thread or per evaluation.
+//     of at most N/2 vectors, restarts one vector (the best, kept aside). Nothing of size
+//     n is allocated per thread or per evaluation.
 //   - The best energy never rises; best_energy is the lowest energy ever evaluated.
 #pragma once
 
@@ -62,6 +63,11 @@ struct DeProblem {
   std::function<double(int slot, int index, std::span<const double> x)> evaluate;
   /// Fills initial agent `index`. Optional; default: log(U(0,1]) per coordinate.
   std::function<void(int index, DeRandom& rng, std::span<double> x)> initialize;
+  /// Adds a random perturbation of scale `amplitude` to `x` (the seeded agents).
+  /// Optional; default: uniform noise in [-amplitude, amplitude] per coordinate. A problem
+  /// whose energy responds only to coherent changes (DE-Path: a path moves only where the
+  /// density changes over a region) should supply spatially smooth perturbations here.
+  std::function<void(DeRandom& rng, double amplitude, std::span<double> x)> perturb;
 };
 
 /// DE parameters.
@@ -74,10 +80,22 @@ struct DeSettings {
   std::string strategy = "rand1bin";
   uint64_t seed = 1;
   /// If not empty (size n): agent 0 is this point and the next
-  /// ceil(seed_fraction * N) - 1 agents are perturbations of it (uniform noise of
-  /// amplitudes from 0.02 to 1, growing geometrically); the others are initialised as usual.
+  /// ceil(seed_fraction * N) - 1 agents are perturbations of it (DeProblem::perturb, by
+  /// default uniform noise, of amplitudes from 0.02 to 1 growing geometrically); the
+  /// others are initialised as usual.
   std::vector<double> seed_point;
   double seed_fraction = 0.5;
+  /// Restart on collapse (opt-in; without it `rand1bin` is exactly the paper's DE): when
+  /// the agents' energies agree to a relative `restart_tolerance` (highest - lowest <=
+  /// tol * |lowest|), the next generation's trials are a fresh population, initialised as
+  /// in generation 0 (seed point and its perturbations, random agents) from that
+  /// generation's streams, and replace the agents unconditionally; the strategy resets its
+  /// adaptation (shade keeps its archive). The best so far is kept aside, outside the
+  /// population, until an agent beats it, so it is never lost and no restart is pulled
+  /// back into its basin. Each restart costs one generation's evaluations, no more. A
+  /// collapsed population then never stops the run ("converged").
+  bool restart = false;
+  double restart_tolerance = 1e-3;
 };
 
 /// Summary of one finished generation.
@@ -88,7 +106,8 @@ struct DeGenerationReport {
   double mean_energy = 0.0;  ///< over agents with finite energy (+inf if none)
   int64_t evaluations = 0;   ///< so far, initial population included
   int improvements = 0;      ///< agents replaced by their trial in this generation
-  int best_index = -1;       ///< agent holding the best
+  int best_index = -1;       ///< agent holding the best (-1: kept aside since a restart)
+  bool restarted = false;    ///< this generation's trials were a restart (DeSettings::restart)
 };
 
 /// Optional callbacks.
@@ -109,6 +128,7 @@ struct DeResult {
   int generations = 0;       ///< generations completed
   int64_t evaluations = 0;
   std::string stop_reason;   ///< "max_generations", "stalled", "converged", "cancelled"
+  int restarts = 0;          ///< restarts on collapse (DeSettings::restart)
 };
 
 /// Names accepted as DeSettings::strategy: {"rand1bin", "shade"}.

@@ -27,8 +27,10 @@ class Shade final : public Strategy {
  public:
   Shade(double F, double CR, int population, int dimension)
       : n_(dimension),
-        memory_F_(kMemorySize, std::min(F, 1.0)),
-        memory_CR_(kMemorySize, CR),
+        initial_F_(std::min(F, 1.0)),
+        initial_CR_(CR),
+        memory_F_(kMemorySize, initial_F_),
+        memory_CR_(kMemorySize, initial_CR_),
         F_(population),
         CR_(population),
         order_(population),
@@ -99,6 +101,12 @@ class Shade final : public Strategy {
 
   bool has_external_diversity() const override { return archive_size() > 0; }
 
+  void restart() override {
+    std::fill(memory_F_.begin(), memory_F_.end(), initial_F_);
+    std::fill(memory_CR_.begin(), memory_CR_.end(), initial_CR_);
+    next_slot_ = 0;
+  }
+
  private:
   int archive_size() const { return static_cast<int>(archive_.size() / n_); }
 
@@ -111,6 +119,8 @@ class Shade final : public Strategy {
   }
 
   int n_;
+  double initial_F_;
+  double initial_CR_;
   std::vector<double> memory_F_;
   std::vector<double> memory_CR_;
   int next_slot_ = 0;

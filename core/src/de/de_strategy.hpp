@@ -50,6 +50,10 @@ class Strategy {
   /// True if trials can draw on vectors outside the population (e.g. an archive), so a
   /// population whose agents are all identical may still move.
   virtual bool has_external_diversity() const { return false; }
+
+  /// Serial, when the optimizer restarts a collapsed population (DeSettings::restart):
+  /// forget what the adaptation learnt about the old basin.
+  virtual void restart() {}
 };
 
 /// Builds the strategy named settings.strategy. Throws Error(invalid_argument) naming the

@@ -6,12 +6,19 @@
 #include <grpcpp/security/credentials.h>
 #include <grpcpp/support/channel_arguments.h>
 
+#include <arpa/inet.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <random>
 #include <thread>
 
 namespace depath::cli {
@@ -41,6 +48,60 @@ bool retryable(grpc::StatusCode code) {
 }
 
 constexpr size_t kChunkBytes = 1 << 20;
+
+/// "//authority/rest" -> "rest"; anything else unchanged.
+std::string strip_authority(const std::string& s) {
+  if (s.rfind("//", 0) != 0) return s;
+  const size_t slash = s.find('/', 2);
+  return slash == std::string::npos ? std::string() : s.substr(slash + 1);
+}
+
+std::vector<std::string> resolve_dns(const std::string& target) {
+  const std::string name = strip_authority(target.substr(4));
+  std::string host = name;
+  std::string port = "443";  // gRPC's default for dns: targets
+  if (!name.empty() && name[0] == '[') {
+    const size_t close = name.find(']');
+    if (close == std::string::npos) throw Error(ErrorCode::invalid_argument, "bad server address '" + target + "'");
+    host = name.substr(1, close - 1);
+    if (close + 1 < name.size() && name[close + 1] == ':') port = name.substr(close + 2);
+  } else if (const size_t colon = name.rfind(':'); colon != std::string::npos && name.find(':') == colon) {
+    host = name.substr(0, colon);
+    port = name.substr(colon + 1);
+  }
+  if (host.empty()) throw Error(ErrorCode::invalid_argument, "bad server address '" + target + "'");
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_STREAM;
+  addrinfo* found = nullptr;
+  if (const int rc = ::getaddrinfo(host.c_str(), port.c_str(), &hints, &found); rc != 0) {
+    throw Error(ErrorCode::unavailable, "cannot resolve '" + host + "' (" + target + "): " + ::gai_strerror(rc));
+  }
+  std::vector<std::string> out;
+  for (const addrinfo* a = found; a; a = a->ai_next) {
+    char ip[INET6_ADDRSTRLEN] = "";
+    std::string address;
+    if (a->ai_family == AF_INET) {
+      const auto* sin = reinterpret_cast<const sockaddr_in*>(a->ai_addr);
+      ::inet_ntop(AF_INET, &sin->sin_addr, ip, sizeof ip);
+      address = "ipv4:" + std::string(ip) + ":" + std::to_string(ntohs(sin->sin_port));
+    } else if (a->ai_family == AF_INET6) {
+      const auto* sin6 = reinterpret_cast<const sockaddr_in6*>(a->ai_addr);
+      ::inet_ntop(AF_INET6, &sin6->sin6_addr, ip, sizeof ip);
+      address = "ipv6:[" + std::string(ip) + "]:" + std::to_string(ntohs(sin6->sin6_port));
+    } else {
+      continue;
+    }
+    if (std::find(out.begin(), out.end(), address) == out.end()) out.push_back(address);
+  }
+  ::freeaddrinfo(found);
+  if (out.empty()) throw Error(ErrorCode::unavailable, "'" + host + "' (" + target + ") has no addresses");
+  return out;
+}
+
+bool is_address_list(const std::string& target) {
+  return (target.rfind("ipv4:", 0) == 0 || target.rfind("ipv6:", 0) == 0) && target.find(',') != std::string::npos;
+}
 constexpr double kReconnectSeconds = 60;
 
 }  // namespace
@@ -52,7 +113,8 @@ void add_remote_options(CLI::App& cmd, RemoteOptions& o) {
   if (const char* env = std::getenv("DEPATH_SERVER"); env && *env) o.server = env;
   if (const char* env = std::getenv("DEPATH_TOKEN"); env && *env) o.token = env;
   cmd.add_option("--server", o.server,
-                 "Server address host:port, or dns:///host:port to balance over all its addresses (env DEPATH_SERVER)")
+                 "Server address host:port; or several replicas: dns:///host:port (all its addresses) or "
+                 "ipv4:a:port,b:port, where each job goes to one replica chosen at random (env DEPATH_SERVER)")
       ->capture_default_str();
   cmd.add_option("--token", o.token, "Auth token sent as 'authorization: Bearer TOKEN' (env DEPATH_TOKEN)");
   cmd.add_option("--connect-timeout", o.connect_timeout_seconds, "Seconds to wait for the server")
@@ -67,6 +129,84 @@ std::string read_file_bytes(const std::string& path) {
   return bytes;
 }
 
+std::vector<std::string> replica_targets(const std::string& target) {
+  if (target.rfind("dns:", 0) == 0) return resolve_dns(target);
+  if (!is_address_list(target)) return {};
+  const std::string scheme = target.substr(0, 5);
+  const std::string list = strip_authority(target.substr(5));
+  std::vector<std::string> out;
+  size_t start = 0;
+  for (;;) {
+    const size_t comma = list.find(',', start);
+    const std::string part = list.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    if (!part.empty() && std::find(out.begin(), out.end(), scheme + part) == out.end()) out.push_back(scheme + part);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  return out;
+}
+
+std::vector<RemoteOptions> replica_options(const RemoteOptions& options) {
+  const std::vector<std::string> targets = replica_targets(options.server);
+  if (targets.empty()) return {options};
+  std::vector<RemoteOptions> out;
+  for (const auto& t : targets) {
+    out.push_back(options);
+    out.back().server = t;
+  }
+  return out;
+}
+
+RemoteOptions pin_to_random_replica(const RemoteOptions& options) {
+  std::vector<RemoteOptions> replicas = replica_options(options);
+  if (replicas.size() == 1) return replicas.front();
+  std::random_device rd;
+  std::shuffle(replicas.begin(), replicas.end(), std::mt19937(rd()));
+  // Skip a replica that refuses connections (a name can also resolve to an address nothing
+  // listens on, e.g. localhost's ::1); if none connects, the first one reports the error.
+  const auto deadline = std::chrono::system_clock::now() +
+                        std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                            std::chrono::duration<double>(options.connect_timeout_seconds));
+  for (const auto& replica : replicas) {
+    RemoteClient probe(replica);
+    const auto& channel = probe.channel();
+    auto state = channel->GetState(/*try_to_connect=*/true);
+    while (state != GRPC_CHANNEL_READY && state != GRPC_CHANNEL_TRANSIENT_FAILURE &&
+           state != GRPC_CHANNEL_SHUTDOWN && channel->WaitForStateChange(state, deadline)) {
+      state = channel->GetState(false);
+    }
+    if (state == GRPC_CHANNEL_READY) return replica;
+  }
+  return replicas.front();
+}
+
+RemoteOptions pin_to_job_replica(const RemoteOptions& options, const std::string& job_id) {
+  const std::vector<std::string> targets = replica_targets(options.server);
+  if (targets.empty()) return options;
+  std::optional<RemoteError> failure;
+  for (const auto& t : targets) {
+    RemoteOptions pinned = options;
+    pinned.server = t;
+    RemoteClient client(pinned);
+    auto ctx = client.context(options.connect_timeout_seconds);  // fails fast on a dead replica
+    v1::GetJobRequest request;
+    request.set_job_id(job_id);
+    v1::JobInfo info;
+    const grpc::Status status = client.jobs().GetJob(ctx.get(), request, &info);
+    if (status.error_code() == grpc::StatusCode::NOT_FOUND) continue;
+    if (status.ok()) return pinned;
+    try {
+      client.check(status, "looking for job " + job_id);
+    } catch (const RemoteError& e) {
+      if (!failure) failure = e;
+    }
+  }
+  if (failure) throw *failure;
+  RemoteOptions first = options;
+  first.server = targets.front();
+  return first;
+}
+
 RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(-1);
@@ -74,7 +214,9 @@ RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
   // Notice a dead connection during a long watch.
   args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 30000);
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
-  if (options.server.rfind("dns:", 0) == 0) args.SetLoadBalancingPolicyName("round_robin");
+  if (options.server.rfind("dns:", 0) == 0 || is_address_list(options.server)) {
+    args.SetLoadBalancingPolicyName("round_robin");
+  }
   channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
   meshes_ = v1::MeshService::NewStub(channel_);
   jobs_ = v1::JobService::NewStub(channel_);

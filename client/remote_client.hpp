@@ -1,5 +1,5 @@
-// The network client's plumbing: a channel to depathd (host:port or dns:///host:port with
-// round_robin), calls with the auth token, mesh upload, job watching that resumes after a
+// The network client's plumbing: a channel to depathd (host:port, or a multi-replica target:
+// dns:///host:port or ipv4:a:p,b:p, whose jobs are pinned to one address), calls with the auth token, mesh upload, job watching that resumes after a
 // dropped connection, and gRPC statuses turned into depath::Error messages.
 #pragma once
 
@@ -15,18 +15,41 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace depath::cli {
 
 /// Flags every network subcommand takes.
 struct RemoteOptions {
-  std::string server = "localhost:50051";  ///< host:port, or dns:///host:port (round_robin)
+  std::string server = "localhost:50051";  ///< host:port, or dns:///host:port / ipv4:a:p,b:p (several replicas)
   std::string token;                       ///< sent as `authorization: Bearer TOKEN`
   double connect_timeout_seconds = 10;
   bool json = false;
 };
 
 void add_remote_options(CLI::App& cmd, RemoteOptions& options);
+
+/// The single-address targets behind a multi-replica target, one per replica:
+/// `dns:///host:port` / `dns:host:port` / `dns://authority/host:port` are resolved here
+/// (getaddrinfo, all A/AAAA records) into `ipv4:1.2.3.4:port` / `ipv6:[::1]:port`, and a
+/// comma-separated `ipv4:a:p,b:p` / `ipv6:...` list is split. Any other target (host:port,
+/// a single ipv4:/ipv6: address, unix:) returns an empty vector: it is used as it is.
+/// Throws Error(unavailable) when a dns name does not resolve.
+std::vector<std::string> replica_targets(const std::string& target);
+
+/// `options` with `server` replaced by one replica chosen at random (for a new job: every
+/// call of the job then goes to that replica, and many jobs spread over the replicas), or
+/// `options` itself for a single-address target.
+RemoteOptions pin_to_random_replica(const RemoteOptions& options);
+
+/// `options` for each replica (`server` replaced), or just `options` for a single-address target.
+std::vector<RemoteOptions> replica_options(const RemoteOptions& options);
+
+/// `options` pinned to the replica that holds job `job_id`: asks each replica (GetJob) until
+/// one does not answer NOT_FOUND. For a single-address target, `options` itself. If no replica
+/// knows the job, the first one (its calls then answer NOT_FOUND); if none knows it and some
+/// could not be asked, throws that error.
+RemoteOptions pin_to_job_replica(const RemoteOptions& options, const std::string& job_id);
 
 /// Thrown for a failed call: the gRPC code and the server's message.
 class RemoteError : public Error {

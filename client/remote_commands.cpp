@@ -20,6 +20,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 #include <random>
 
 namespace depath::cli {
@@ -215,19 +216,30 @@ void add_upload(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "Print the mesh info as JSON");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
-    RemoteClient client(o->remote);
-    bool uploaded = true;
-    const v1::MeshInfo info = o->force ? client.upload(o->mesh) : client.ensure_mesh(o->mesh, &uploaded);
+    // A multi-replica target (dns:, ipv4:a,b): every replica gets the mesh, so a later
+    // `submit MESH_ID` works wherever it lands.
+    const std::vector<RemoteOptions> replicas = replica_options(o->remote);
+    std::optional<v1::MeshInfo> first;
+    for (const auto& replica : replicas) {
+      RemoteClient client(replica);
+      bool uploaded = true;
+      const v1::MeshInfo info = o->force ? client.upload(o->mesh) : client.ensure_mesh(o->mesh, &uploaded);
+      if (!first) first = info;
+      if (o->remote.json) continue;
+      const std::string where = replicas.size() > 1 ? " (" + replica.server + ")" : "";
+      std::fprintf(stderr, "%s %s%s: %d vertices, %d faces, %d boundary edges, %d components\n",
+                   uploaded && !info.already_present() ? "uploaded" : "already on the server:", o->mesh.c_str(),
+                   where.c_str(), info.num_vertices(), info.num_faces(), info.num_boundary_edges(),
+                   info.num_components());
+      if (&replica == &replicas.front()) {
+        for (const auto& w : info.warnings()) std::fprintf(stderr, "  warning: %s\n", w.c_str());
+      }
+    }
     if (o->remote.json) {
-      std::cout << to_json_line(info) << '\n';
+      std::cout << to_json_line(*first) << '\n';
       return;
     }
-    std::fprintf(stderr, "%s %s: %d vertices, %d faces, %d boundary edges, %d components%s\n",
-                 uploaded && !info.already_present() ? "uploaded" : "already on the server:", o->mesh.c_str(),
-                 info.num_vertices(), info.num_faces(), info.num_boundary_edges(), info.num_components(),
-                 info.warnings_size() ? "" : "");
-    for (const auto& w : info.warnings()) std::fprintf(stderr, "  warning: %s\n", w.c_str());
-    std::cout << info.id() << '\n';
+    std::cout << first->id() << '\n';
   });
 }
 
@@ -244,7 +256,9 @@ void add_submit(CLI::App& app) {
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
     o->remote.json = o->job.json;
-    RemoteClient client(o->remote);
+    // One replica for the whole job (mesh lookup/upload and submit); `watch`/`result`/`cancel`
+    // find it again by asking each replica.
+    RemoteClient client(pin_to_random_replica(o->remote));
     const auto reply = submit_job(client, o->job, o->request_id.empty() ? new_request_id() : o->request_id, false);
     if (o->job.json) {
       std::cout << to_json_line(reply) << '\n';
@@ -272,7 +286,7 @@ void add_watch(CLI::App& app) {
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
     if (!o->out.empty()) check_result_path(o->out);
-    RemoteClient client(o->remote);
+    RemoteClient client(pin_to_job_replica(o->remote, o->job_id));
     ProgressDisplay display(o->remote.json);
     std::optional<v1::JobResult> result;
     InterruptGuard guard;
@@ -309,7 +323,7 @@ void add_result(CLI::App& app) {
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
     if (!o->out.empty()) check_result_path(o->out);
-    RemoteClient client(o->remote);
+    RemoteClient client(pin_to_job_replica(o->remote, o->job_id));
     const v1::JobResult result = fetch_result(client, o->job_id);
     std::unique_ptr<Mesh> mesh;
     if (!o->mesh.empty()) mesh = std::make_unique<Mesh>(load_mesh(o->mesh));
@@ -335,7 +349,6 @@ void add_jobs(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "One JSON line per job");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
-    RemoteClient client(o->remote);
     v1::ListJobsRequest req;
     for (const auto& s : o->states) {
       for (int st = v1::JOB_STATE_QUEUED; st <= v1::JOB_STATE_CANCELLED; ++st) {
@@ -343,9 +356,28 @@ void add_jobs(CLI::App& app) {
       }
     }
     req.set_mesh_id(o->mesh_id);
-    auto ctx = client.context(o->remote.connect_timeout_seconds);
+    // A multi-replica target: every replica's jobs, merged. A replica that cannot be asked is
+    // reported on stderr; only when none answers does the command fail.
+    const std::vector<RemoteOptions> replicas = replica_options(o->remote);
     v1::ListJobsResponse reply;
-    client.check(client.jobs().ListJobs(ctx.get(), req, &reply), "listing jobs");
+    std::optional<RemoteError> failure;
+    size_t answered = 0;
+    for (const auto& replica : replicas) {
+      RemoteClient one(replica);
+      auto ctx = one.context(o->remote.connect_timeout_seconds);
+      v1::ListJobsResponse part;
+      try {
+        one.check(one.jobs().ListJobs(ctx.get(), req, &part), "listing jobs");
+      } catch (const RemoteError& e) {
+        if (replicas.size() == 1) throw;
+        std::fprintf(stderr, "warning: %s\n", e.what());
+        if (!failure) failure = e;
+        continue;
+      }
+      ++answered;
+      for (auto& job : *part.mutable_jobs()) *reply.add_jobs() = std::move(job);
+    }
+    if (answered == 0 && failure) throw *failure;
     if (o->remote.json) {
       for (const auto& job : reply.jobs()) std::cout << to_json_line(job) << '\n';
       return;
@@ -377,7 +409,7 @@ void add_cancel(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "Print the job info as JSON");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
-    RemoteClient client(o->remote);
+    RemoteClient client(pin_to_job_replica(o->remote, o->job_id));
     auto ctx = client.context(o->remote.connect_timeout_seconds);
     v1::CancelJobRequest req;
     req.set_job_id(o->job_id);
@@ -405,11 +437,13 @@ void add_run(CLI::App& app) {
     o->remote.json = o->job.json;
     if (!o->job.out.empty()) check_result_path(o->job.out);  // fail before the work, not after
     const Mesh mesh = load_mesh(o->job.mesh_path);  // validates locally and writes the result later
-    RemoteClient client(o->remote);
+    // Every call of this job (mesh lookup/upload, submit, watch and its reconnects, result)
+    // goes to one replica, chosen at random among a multi-replica target's addresses.
+    RemoteClient client(pin_to_random_replica(o->remote));
     ProgressDisplay display(o->job.json);
     InterruptGuard guard;
     const auto reply = submit_job(client, o->job, o->request_id.empty() ? new_request_id() : o->request_id, false);
-    if (!o->job.json) display.status("job " + reply.job_id() + " submitted to " + o->remote.server);
+    if (!o->job.json) display.status("job " + reply.job_id() + " submitted to " + client.options().server);
     std::optional<v1::JobResult> result;
     const auto terminal = client.watch(
         reply.job_id(), 0,
@@ -436,19 +470,36 @@ void add_health(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "Print JSON");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
-    RemoteClient client(o->remote);
-    auto stub = grpc::health::v1::Health::NewStub(client.channel());
-    auto ctx = client.context(o->remote.connect_timeout_seconds);
-    grpc::health::v1::HealthCheckRequest req;
-    req.set_service(o->service);
-    grpc::health::v1::HealthCheckResponse reply;
-    client.check(stub->Check(ctx.get(), req, &reply), "checking health of " + o->remote.server);
-    const std::string status = grpc::health::v1::HealthCheckResponse::ServingStatus_Name(reply.status());
-    if (o->remote.json) std::cout << nlohmann::json{{"server", o->remote.server}, {"status", status}}.dump() << '\n';
-    else std::cout << status << '\n';
-    if (reply.status() != grpc::health::v1::HealthCheckResponse::SERVING) {
-      throw RemoteError(grpc::StatusCode::UNAVAILABLE, "server " + o->remote.server + " is " + status);
+    // A multi-replica target: every replica is checked and printed ("ADDRESS STATUS");
+    // exit 0 only when all are SERVING.
+    const std::vector<RemoteOptions> replicas = replica_options(o->remote);
+    const bool many = replicas.size() > 1;
+    std::optional<RemoteError> failure;
+    for (const auto& replica : replicas) {
+      RemoteClient client(replica);
+      auto stub = grpc::health::v1::Health::NewStub(client.channel());
+      auto ctx = client.context(o->remote.connect_timeout_seconds);
+      grpc::health::v1::HealthCheckRequest req;
+      req.set_service(o->service);
+      grpc::health::v1::HealthCheckResponse reply;
+      std::string status;
+      try {
+        client.check(stub->Check(ctx.get(), req, &reply), "checking health of " + replica.server);
+        status = grpc::health::v1::HealthCheckResponse::ServingStatus_Name(reply.status());
+      } catch (const RemoteError& e) {
+        if (!many) throw;
+        std::fprintf(stderr, "%s\n", e.what());
+        status = "UNREACHABLE";
+        if (!failure) failure = e;
+      }
+      if (o->remote.json) std::cout << nlohmann::json{{"server", replica.server}, {"status", status}}.dump() << '\n';
+      else if (many) std::cout << replica.server << ' ' << status << '\n';
+      else std::cout << status << '\n';
+      if (status != "UNREACHABLE" && reply.status() != grpc::health::v1::HealthCheckResponse::SERVING && !failure) {
+        failure = RemoteError(grpc::StatusCode::UNAVAILABLE, "server " + replica.server + " is " + status);
+      }
     }
+    if (failure) throw *failure;
   });
 }
 

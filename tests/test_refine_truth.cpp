@@ -109,6 +109,17 @@ struct Measured {
   int within = 0;  // pairs meeting the target after refinement
   double worst_before = 0.0, worst_after = 0.0, sum_before = 0.0, sum_after = 0.0;
   double max_ms = 0.0, total_ms = 0.0;
+
+  void add(double err_before, double err_after, double ms, double target) {
+    ++pairs;
+    within += err_after <= target;
+    worst_before = std::max(worst_before, err_before);
+    worst_after = std::max(worst_after, err_after);
+    sum_before += err_before;
+    sum_after += err_after;
+    max_ms = std::max(max_ms, ms);
+    total_ms += ms;
+  }
 };
 
 const std::vector<std::string> kSmallMeshes = {"kitten.off", "cone.off", "beethoven.ply", "terrain_grid30.obj"};
@@ -154,16 +165,7 @@ TEST(RefineTruth, FmmPlusRefineAgainstExactGeodesics) {
         }
       }
       const double err_before = before / row.value - 1.0, err_after = after / row.value - 1.0;
-      for (Measured* m : {&all, &per_mesh[name]}) {
-        ++m->pairs;
-        m->within += err_after <= 1e-3;
-        m->worst_before = std::max(m->worst_before, err_before);
-        m->worst_after = std::max(m->worst_after, err_after);
-        m->sum_before += err_before;
-        m->sum_after += err_after;
-        m->max_ms = std::max(m->max_ms, ms);
-        m->total_ms += ms;
-      }
+      for (Measured* m : {&all, &per_mesh[name]}) m->add(err_before, err_after, ms, 1e-3);
       std::printf("  %-18s %5d -> %5d  fmm %+8.4f%%  refined %+9.5f%%  points %4zu -> %4zu  sweeps %3d  %7.2f ms\n",
                   name.c_str(), row.source, row.target, 100 * err_before, 100 * err_after, fmm.points.size(),
                   refined.points.size(), report.sweeps, ms);
@@ -211,16 +213,7 @@ TEST(RefineTruth, FmmPlusRefineWithBumpDensities) {
       EXPECT_EQ(refined.points.front().v0, row.source);
       EXPECT_EQ(refined.points.back().v0, row.target);
       const double err_before = before / row.value - 1.0, err_after = after / row.value - 1.0;
-      for (Measured* m : {&all, &per_mesh[name]}) {
-        ++m->pairs;
-        m->within += err_after <= 1e-2;
-        m->worst_before = std::max(m->worst_before, err_before);
-        m->worst_after = std::max(m->worst_after, err_after);
-        m->sum_before += err_before;
-        m->sum_after += err_after;
-        m->max_ms = std::max(m->max_ms, ms);
-        m->total_ms += ms;
-      }
+      for (Measured* m : {&all, &per_mesh[name]}) m->add(err_before, err_after, ms, 1e-2);
       std::printf("  %-18s %5d -> %5d  fmm %+8.4f%%  refined %+9.5f%%  points %4zu -> %4zu  sweeps %3d  %7.2f ms\n",
                   name.c_str(), row.source, row.target, 100 * err_before, 100 * err_after, fmm.points.size(),
                   refined.points.size(), report.sweeps, ms);

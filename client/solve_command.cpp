@@ -58,6 +58,9 @@ void run_solve(const JobOptions& options) {
     print_summary(result);
     if (!options.out.empty()) std::fprintf(stderr, "wrote %s\n", options.out.c_str());
   }
+  // Interrupted: the best path so far is written above; exit 130 like `depath run`.
+  if (result.stop_reason == "cancelled")
+    throw Error(ErrorCode::cancelled, "interrupted after generation " + std::to_string(result.generations));
 }
 
 }  // namespace

@@ -284,7 +284,7 @@ TEST(DifferentialEvolution, CancellationStopsBetweenEvaluations) {
 }
 
 TEST(DifferentialEvolution, SeedPointIsAnAgentSoTheResultIsNeverWorse) {
-  ThreadPool pool(1);
+  ThreadPool pool(0);  // serial: the evaluation counter below is not thread-safe
   const std::vector<double> seed_point(6, -0.5);  // the optimum
   DeSettings s = settings(10, 5);
   s.seed_point = seed_point;
@@ -311,7 +311,7 @@ TEST(DifferentialEvolution, SeedPointIsAnAgentSoTheResultIsNeverWorse) {
 
 // The perturbations of the seed point come from DeProblem::perturb when it is given.
 TEST(DifferentialEvolution, SeededAgentsUseTheProblemsPerturbation) {
-  ThreadPool pool(1);
+  ThreadPool pool(0);  // serial: the evaluation counter below is not thread-safe
   DeSettings s = settings(8, 1);
   s.seed_point.assign(4, -0.5);
   DeProblem problem = make_problem(4, sphere);

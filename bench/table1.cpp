@@ -15,9 +15,10 @@
 // `de` seeded with the problem (rand1bin and shade), each against the Steiner-graph cost
 // (16 points per edge; an upper bound a little above the optimum).
 //
-// Usage: bench_table1 [--threads T] [--quick] [--data DIR] [--strategy NAME] [--seeded]
+// Usage: bench_table1 [--threads T] [--quick] [--data DIR] [--strategy NAME] [--seeded] [--only TEXT]
 //   --quick  caps every row at 20 iterations (smoke run; ratios stay per-evaluation fair
 //            because the paper time is estimated for the evaluations actually run).
+//   --only   runs just the rows whose "application mesh" contains TEXT (for profiling).
 #include "depath/mesh_io.hpp"
 #include "depath/scalar_files.hpp"
 #include "depath/solve.hpp"
@@ -219,7 +220,7 @@ void quality_section(const std::string& data, int threads, bool quick) {
 int main(int argc, char** argv) {
   int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   bool quick = false, seeded = false;
-  std::string data = DEPATH_SHARED_DATA, strategy = "rand1bin";
+  std::string data = DEPATH_SHARED_DATA, strategy = "rand1bin", only;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
@@ -227,8 +228,9 @@ int main(int argc, char** argv) {
     else if (arg == "--seeded") seeded = true;
     else if (arg == "--data" && i + 1 < argc) data = argv[++i];
     else if (arg == "--strategy" && i + 1 < argc) strategy = argv[++i];
+    else if (arg == "--only" && i + 1 < argc) only = argv[++i];
     else {
-      std::fprintf(stderr, "usage: %s [--threads T] [--quick] [--data DIR] [--strategy NAME] [--seeded]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--threads T] [--quick] [--data DIR] [--strategy NAME] [--seeded] [--only TEXT]\n", argv[0]);
       return 2;
     }
   }
@@ -242,6 +244,7 @@ int main(int argc, char** argv) {
   std::vector<Row> rows = make_rows(data);
   double worst_ratio = INFINITY;
   for (Row& row : rows) {
+    if (!only.empty() && (row.application + " " + row.mesh_name).find(only) == std::string::npos) continue;
     JobSpec job = row.job;
     job.threads = threads;
     job.de.strategy = strategy;
@@ -266,6 +269,7 @@ int main(int argc, char** argv) {
   }
   std::printf("\nslowest row: %.1fx faster than the (estimated) paper time (target >= 20x)\n", worst_ratio);
 
+  if (!only.empty()) return 0;  // a single row: no scaling or quality sections
   // Thread scaling of generation throughput on the paper-sized geodesic row.
   for (Row& row : rows) {
     if (row.mesh_name != "grid 125x125 flat") continue;

@@ -76,9 +76,10 @@ int FastMarching::pop_min() {
       if (c >= n) break;
       int m;
       if (c + 3 < n) {
-        const int m01 = h[c + 1].key < h[c].key ? c + 1 : c;
-        const int m23 = h[c + 3].key < h[c + 2].key ? c + 3 : c + 2;
-        m = h[m23].key < h[m01].key ? m23 : m01;
+        // Index arithmetic instead of ?: so that no jump depends on the (random) keys.
+        const int m01 = c + int(h[c + 1].key < h[c].key);
+        const int m23 = c + 2 + int(h[c + 3].key < h[c + 2].key);
+        m = m01 ^ ((m01 ^ m23) & -int(h[m23].key < h[m01].key));
       } else {
         m = c;
         for (int k = c + 1; k < n; ++k)

@@ -354,7 +354,9 @@ TEST(DifferentialEvolution, RestartsACollapsedPopulationKeepingTheBest) {
       int restarted = 0;
       for (size_t g = 0; g < reports.size(); ++g) {
         restarted += reports[g].restarted;
-        if (g > 0) EXPECT_LE(reports[g].best_energy, reports[g - 1].best_energy);
+        if (g > 0) {
+          EXPECT_LE(reports[g].best_energy, reports[g - 1].best_energy);
+        }
       }
       EXPECT_EQ(restarted, r.restarts) << strategy;
       ASSERT_EQ(r.best.size(), 5u);
@@ -376,6 +378,40 @@ TEST(DifferentialEvolution, RestartsACollapsedPopulationKeepingTheBest) {
   EXPECT_GE(r.restarts, 1);
   EXPECT_DOUBLE_EQ(r.best_energy, 3 * 0.75 * 0.75);
   EXPECT_EQ(r.best, std::vector<double>(3, 0.25));
+}
+
+// 10 + sphere: once the population sits near the minimum, its lowest energy improves by
+// far less than 5% of 10 per 50 generations. With collapse detection off (tolerance 0),
+// the restarts are the stagnation rule's alone: none without a window, and with one
+// never sooner than `window` generations after the start or the previous restart.
+double lifted_sphere(std::span<const double> x) { return 10.0 + sphere(x); }
+
+TEST(DifferentialEvolution, RestartsAStagnantPopulation) {
+  for (int window : {0, 40}) {
+    ThreadPool pool(0);
+    DeSettings s = settings(8, 200, "shade", 3);
+    s.restart = true;
+    s.restart_tolerance = 0.0;
+    s.restart_window = window;
+    std::vector<int> restarted_at;
+    DeHooks hooks;
+    hooks.on_generation = [&](const DeGenerationReport& r) {
+      if (r.restarted) restarted_at.push_back(r.generation);
+    };
+    const DeResult r = run_differential_evolution(make_problem(10, lifted_sphere), s, pool, hooks);
+    EXPECT_EQ(r.restarts, static_cast<int>(restarted_at.size()));
+    if (window == 0) {
+      EXPECT_EQ(r.restarts, 0);
+      continue;
+    }
+    EXPECT_GE(r.restarts, 2);
+    int previous = 0;
+    for (int g : restarted_at) {
+      EXPECT_GT(g - previous, window) << "restart at generation " << g;
+      previous = g;
+    }
+    EXPECT_LT(r.best_energy, 10.01);  // the best is kept across restarts
+  }
 }
 
 TEST(DifferentialEvolution, RejectsBadSettingsNamingTheProblem) {
@@ -406,6 +442,12 @@ TEST(DifferentialEvolution, RejectsBadSettingsNamingTheProblem) {
   s = settings(10, 10);
   s.restart_tolerance = -1.0;
   EXPECT_NE(message(s).find("restart tolerance"), std::string::npos);
+  s = settings(10, 10);
+  s.restart_window = -1;
+  EXPECT_NE(message(s).find("restart window"), std::string::npos);
+  s = settings(10, 10);
+  s.restart_progress = 1.0;
+  EXPECT_NE(message(s).find("restart progress"), std::string::npos);
   s = settings(10, 10, "best2exp");
   const std::string m = message(s);
   EXPECT_NE(m.find("best2exp"), std::string::npos);

@@ -103,6 +103,10 @@ void validate_de_settings(const DeSettings& s, int dimension) {
   if (!(s.restart_tolerance >= 0.0 && s.restart_tolerance < 1.0)) {
     fail("DE restart tolerance must be in [0, 1) (got " + str(s.restart_tolerance) + ")");
   }
+  if (s.restart_window < 0) fail("DE restart window must be >= 0 (got " + std::to_string(s.restart_window) + ")");
+  if (!(s.restart_progress >= 0.0 && s.restart_progress < 1.0)) {
+    fail("DE restart progress must be in [0, 1) (got " + str(s.restart_progress) + ")");
+  }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -217,6 +221,7 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
   int since_improvement = 0;
   bool restart_pending = false;
   std::vector<double> saved_best;  // the best, while a restart keeps it out of the population
+  std::vector<double> lowest_since_restart;  // the population's lowest energy, per generation
   for (int g = 1; g <= s.generations; ++g) {
     if (check_cancel()) {
       result.stop_reason = "cancelled";
@@ -315,10 +320,18 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
     }
     if (s.restart) {
       // Energies agree to a relative tolerance: the agents sit in one basin (for DE-Path
-      // usually on one decoded path) and will not leave it; restart next generation
-      // unless this was the last.
-      restart_pending = g < s.generations && std::isfinite(highest) &&
-                        highest - lowest <= s.restart_tolerance * std::abs(lowest);
+      // usually on one decoded path) and will not leave it. Or the population's best has
+      // crept by less than restart_progress over restart_window generations: it is sliding
+      // down a basin too slowly to matter (measured on the rotation-field experiment: such
+      // runs end 2-10x above the arc). Restart next generation unless this was the last.
+      if (restarting) lowest_since_restart.clear();
+      lowest_since_restart.push_back(lowest);
+      const bool collapsed = std::isfinite(highest) && highest - lowest <= s.restart_tolerance * std::abs(lowest);
+      const size_t window = static_cast<size_t>(s.restart_window);
+      const bool stagnant = window > 0 && lowest_since_restart.size() > window && std::isfinite(lowest) &&
+                            lowest_since_restart[lowest_since_restart.size() - 1 - window] - lowest <=
+                                s.restart_progress * std::abs(lowest);
+      restart_pending = g < s.generations && (collapsed || stagnant);
       continue;
     }
     // Every agent identical and nothing else to draw on: no difference vector is left,

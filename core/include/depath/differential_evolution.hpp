@@ -94,8 +94,13 @@ struct DeSettings {
   /// population, until an agent beats it, so it is never lost and no restart is pulled
   /// back into its basin. Each restart costs one generation's evaluations, no more. A
   /// collapsed population then never stops the run ("converged").
+  /// A stagnant population restarts the same way: when the lowest energy among the agents
+  /// improved by at most `restart_progress` (relative) over the last `restart_window`
+  /// generations since the last restart (window 0: never).
   bool restart = false;
   double restart_tolerance = 1e-3;
+  int restart_window = 50;
+  double restart_progress = 0.05;
 };
 
 /// Summary of one finished generation.

@@ -1,5 +1,7 @@
 #include "depath/fast_marching.hpp"
 
+#include "log_densities.hpp"
+
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -7,29 +9,6 @@
 #include <limits>
 
 namespace depath {
-
-// Density sources for march(): get(v, state) is v's density for a vertex about to be
-// updated, final(v) for one already reached (trial or final).
-struct FastMarching::DirectDensity {
-  const double* rho;
-  double get(int v, uint8_t) const { return rho[v]; }
-  double final(int v) const { return rho[v]; }
-  void touch(int) const {}
-};
-
-// exp() only for the vertices the march reaches (an early-stopped decode reaches a
-// fraction of the mesh), cached in rho_ the first time a vertex is seen.
-struct FastMarching::LazyLogDensity {
-  const double* log_rho;
-  size_t size;
-  double* rho;
-  double compute(int v) const {
-    return size_t(v) < size ? std::clamp(std::exp(log_rho[v]), DBL_MIN, DBL_MAX) : 0.0;
-  }
-  double get(int v, uint8_t state) const { return state == kFar ? (rho[v] = compute(v)) : rho[v]; }
-  double final(int v) const { return rho[v]; }
-  void touch(int v) const { rho[v] = compute(v); }
-};
 
 FastMarching::FastMarching(const FastMarchingStencils& stencils) : stencils_(stencils) {
   const int nv = stencils.mesh().num_vertices();
@@ -129,25 +108,26 @@ void FastMarching::reset() {
 }
 
 void FastMarching::run(std::span<const double> density, int source, int stop_vertex) {
-  DirectDensity rho{density.data()};
-  march(rho, source, stop_vertex);
+  march(density.data(), source, stop_vertex);
 }
 
 void FastMarching::run_log(std::span<const double> log_density, int source, int stop_vertex) {
+  // All at once rather than per vertex reached: the vectorised exp costs less for the
+  // whole mesh than std::exp for the part an early-stopped march reaches.
   rho_.resize(u_.size());
-  LazyLogDensity rho{log_density.data(), log_density.size(), rho_.data()};
-  march(rho, source, stop_vertex);
+  const size_t given = std::min(log_density.size(), rho_.size());
+  densities_from_logs(log_density.first(given), rho_);
+  std::fill(rho_.begin() + given, rho_.end(), 0.0);
+  march(rho_.data(), source, stop_vertex);
 }
 
-template <class Density>
-void FastMarching::march(Density& rho, int source, int stop_vertex) {
+void FastMarching::march(const double* rho, int source, int stop_vertex) {
   const Mesh& mesh = stencils_.mesh();
   reset();
   const FastMarchingStencils::Tri* const tris = stencils_.tris();
   double* const u = u_.data();
   const uint8_t* const state = state_.data();
 
-  rho.touch(source);
   push_or_decrease(source, 0.0);
   bool stop_reached = false;
   while (heap_size_ > 0) {
@@ -156,7 +136,7 @@ void FastMarching::march(Density& rho, int source, int stop_vertex) {
     accepted_[num_final_] = x;
     order_[x] = num_final_++;
     const double ux = u[x];
-    const double rx = rho.final(x);
+    const double rx = rho[x];
     if (heap_size_ > 0) {
       // The next vertex to accept is most likely the new top: fetch its stencil early.
       const auto* next = stencils_.groups_begin(heap_[0].vertex);
@@ -166,21 +146,20 @@ void FastMarching::march(Density& rho, int source, int stop_vertex) {
 
     for (auto* g = stencils_.groups_begin(x), *end = stencils_.groups_end(x); g != end; ++g) {
       const int c = g->target;
-      const uint8_t sc = state[c];
-      if (sc == kFinal) continue;
-      const double rc = rho.get(c, sc);
+      if (state[c] == kFinal) continue;
+      const double rc = rho[c];
       // Straight segment from x: length times the mean density at its ends.
       double best = ux + 0.5 * (rc + rx) * double(g->len);
       for (auto* t = tris + g->tri_begin, *tend = tris + g->tri_end; t != tend; ++t) {
         const int y = t->other;
         if (state[y] != kFinal) continue;
         const double uy = u[y];
-        const double ry = rho.final(y);
+        const double ry = rho[y];
         const double delta = uy - ux;
         // Semi-Lagrangian triangle update: minimise u(p) + F |p - c| over p on segment x-y,
         // F the mean density of the segment p-c (refined once at the minimiser).
         const double lambda0 = t->lambda0, height = t->height, inv_len2 = t->inv_len2;
-        double lambda = std::clamp(lambda0, 0.0, 1.0);
+        double lambda = std::min(std::max(lambda0, 0.0), 1.0);
         for (int pass = 0; pass < 2; ++pass) {
           const double F = 0.5 * (rc + rx + lambda * (ry - rx));
           const double q = F * F - delta * delta * inv_len2;

@@ -69,8 +69,8 @@ class FastMarching {
   void run(std::span<const double> density, int source, int stop_vertex = -1);
 
   /// Same with the density given as logarithms: vertex v's density is
-  /// clamp(exp(log_density[v]), DBL_MIN, DBL_MAX) (0 past the end of the span), computed
-  /// only for the vertices the march reaches.
+  /// clamp(exp(log_density[v]), DBL_MIN, DBL_MAX) (within 1 ulp; NaN counts as -inf), 0
+  /// past the end of the span.
   void run_log(std::span<const double> log_density, int source, int stop_vertex = -1);
 
   /// Value at v: final, tentative (reached but not final) or +infinity.
@@ -86,10 +86,7 @@ class FastMarching {
 
  private:
   static constexpr uint8_t kFar = 0, kTrial = 1, kFinal = 2;
-  struct DirectDensity;
-  struct LazyLogDensity;
-  template <class Density>
-  void march(Density& density, int source, int stop_vertex);
+  void march(const double* density, int source, int stop_vertex);
   void reset();
   void push_or_decrease(int v, double value);
   int pop_min();
@@ -100,7 +97,7 @@ class FastMarching {
   std::vector<int32_t> order_;
   std::vector<int32_t> accepted_;  // final vertices in acceptance order
   std::vector<int32_t> touched_;   // every vertex given a finite value this run
-  std::vector<double> rho_;        // densities computed by run_log (valid where reached)
+  std::vector<double> rho_;        // densities computed by run_log
   struct HeapEntry {
     double key;  // copy of u_[vertex]: sifting compares without an indirection
     int32_t vertex;

@@ -322,6 +322,22 @@ TEST(Refine, AVertexHopCarriesThePathAcrossTheApexToTheShorterSide) {
   EXPECT_FALSE(refined.points[1].is_vertex());
 }
 
+TEST(Refine, BestOfSeveralStartsIsTheLowestLocalOptimum) {
+  const LeaningPyramid pyramid;
+  const auto energy = make_energy(pyramid.mesh, EnergySpec{});
+  RefineOptions options;
+  options.max_hops = 0;  // the starts alone must do it
+  const std::vector<SurfacePath> starts = {pyramid.long_side(), pyramid.short_side()};
+  RefineReport report;
+  const SurfacePath best = refine_best_of(*energy, starts, options, {}, &report);
+  expect_valid(pyramid.mesh, starts.front(), best);
+  EXPECT_NEAR(energy->evaluate(best), pyramid.unfolded(3), 1e-9);
+  EXPECT_DOUBLE_EQ(report.final_energy, energy->evaluate(best));
+  EXPECT_DOUBLE_EQ(report.initial_energy, energy->evaluate(starts.front()));
+  for (const SurfacePath& start : starts) EXPECT_LE(energy->evaluate(best), energy->evaluate(start));
+  EXPECT_TRUE(refine_best_of(*energy, std::vector<SurfacePath>{}).empty());
+}
+
 // fmm path on a peaks terrain, for the generic-energy tests.
 struct Terrain {
   GridOptions options;

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <string>
 
 namespace depath {
@@ -67,5 +68,18 @@ struct RefineOptions {
 /// `path` is not a valid surface path (a segment whose ends share no face).
 SurfacePath refine_path(const Energy& energy, const SurfacePath& path, const RefineOptions& options = {},
                         const std::function<bool()>& cancelled = {}, RefineReport* report = nullptr);
+
+/// Multi-start refinement: the lowest-energy path that refinement reaches from any of
+/// `starts` (paths between the same end points). The local optima of the refinement
+/// differ by homotopy class, and which start reaches the best one is not visible before
+/// refining it. Every start gets the local moves (no hops); then the hops, which cost
+/// far more, run once from each distinct local optimum within 1% of the lowest.
+/// Guarantees: the result's energy is at most that of every start and of refining any
+/// start without hops; the rest as for refine_path. options.on_sweep is not called. The
+/// report describes the winning start's refinement, with the evaluations of all;
+/// initial_energy is the first start's energy. An empty `starts` gives an empty path.
+SurfacePath refine_best_of(const Energy& energy, std::span<const SurfacePath> starts,
+                           const RefineOptions& options = {}, const std::function<bool()>& cancelled = {},
+                           RefineReport* report = nullptr);
 
 }  // namespace depath

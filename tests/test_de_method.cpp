@@ -2,6 +2,7 @@
 // convergence, never worse than `fmm` when seeded, progress reports, stop rules.
 #include "depath/error.hpp"
 #include "depath/mesh_io.hpp"
+#include "depath/refine_path.hpp"
 #include "depath/solve.hpp"
 #include "depath/surface_generators.hpp"
 
@@ -118,6 +119,40 @@ TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
     EXPECT_DOUBLE_EQ(r.energy, r.length) << "uniform density: the energy is the length";
     expect_valid_path(mesh, r.path, 0, n * n - 1);
   }
+}
+
+// With refinement, the result is the best of the refined starts (DE's best path, the fmm
+// path, the final population's): never above refining DE's path or the fmm path alone,
+// and still the same whatever the thread count.
+TEST(DeMethod, RefinedResultIsTheBestOfTheRefinedStarts) {
+  const int n = 21;
+  GridOptions options;
+  options.n = n;
+  options.height = GridHeight::peaks;
+  options.diagonals = GridDiagonals::alternating;
+  const Mesh mesh = make_grid(options);
+  JobSpec job = de_job(0, n * n - 1, 16, 30);
+  job.de.seed_with_problem = true;
+  job.de.strategy = "shade";
+  const SolveResult plain = solve(mesh, job);
+  JobSpec fmm_job = job;
+  fmm_job.method = Method::fmm;
+  const SolveResult fmm = solve(mesh, fmm_job);
+  job.refine = true;
+  const SolveResult refined = solve(mesh, job);
+  EXPECT_TRUE(refined.refined);
+  expect_valid_path(mesh, refined.path, 0, n * n - 1);
+  const auto energy = make_energy(mesh, job.energy);
+  RefineOptions local;
+  local.max_hops = 0;
+  EXPECT_LE(refined.energy, energy->evaluate(refine_path(*energy, plain.path, local)));
+  EXPECT_LE(refined.energy, energy->evaluate(refine_path(*energy, fmm.path, local)));
+  EXPECT_LT(refined.energy, plain.energy);
+  job.threads = 2;
+  const SolveResult two = solve(mesh, job);
+  EXPECT_EQ(two.energy, refined.energy);
+  ASSERT_EQ(two.path.points.size(), refined.path.points.size());
+  for (size_t k = 0; k < two.path.points.size(); ++k) EXPECT_EQ(two.path.points[k].t, refined.path.points[k].t);
 }
 
 // Uniform geodesic on small real meshes: seeded `de` never ends above `fmm`, never below

@@ -3,9 +3,10 @@
 // Bump densities: within 1% of the Steiner-graph cost (an upper bound on the optimum) and
 // better than `fmm` on every pair.
 //
-// beethoven.ply is left out of the 0.1% check: for 1051 -> 2350 DE + refinement ends in a
-// locally shortest path through saddle vertices, +0.31% above the exact one (a different
-// homotopy class); see the issue notes.
+// beethoven.ply is the hard one: its locally shortest paths come in several homotopy
+// classes within 0.4% of each other (for 1051 -> 2350 DE's best decoded path refines to
+// +0.31% above the exact one, through saddle vertices); the multi-start refinement and
+// the vertex hops get every pair to the exact class or within 0.1% of it.
 #include "depath/mesh_io.hpp"
 #include "depath/scalar_files.hpp"
 #include "depath/solve.hpp"
@@ -46,7 +47,7 @@ JobSpec de_refine_job(int s, int t) {
 
 TEST(DeTruth, UniformGeodesicWithinATenthOfAPercentOfExact) {
   DEPATH_REQUIRE_SHARED_DATA();
-  const std::set<std::string> meshes{"kitten.off", "cone.off", "terrain_grid30.obj"};
+  const std::set<std::string> meshes{"kitten.off", "cone.off", "terrain_grid30.obj", "beethoven.ply"};
   double worst = 0.0;
   int pairs = 0;
   for (const auto& row : test::read_exact_geodesics(test::shared_data("truth/geodesic_exact.csv"))) {
@@ -61,7 +62,7 @@ TEST(DeTruth, UniformGeodesicWithinATenthOfAPercentOfExact) {
     worst = std::max(worst, error);
     ++pairs;
   }
-  EXPECT_EQ(pairs, 36);
+  EXPECT_EQ(pairs, 48);
   std::printf("de --refine vs exact over %d pairs: worst %+.4f%%\n", pairs, 100 * worst);
 }
 

@@ -7,8 +7,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <set>
 
@@ -236,6 +238,27 @@ TEST(DifferentialEvolution, NewBestHookSeesTheIndexWhoseCandidateWon) {
   };
   const DeResult r = run_differential_evolution(problem, settings(8, 40), pool, hooks);
   EXPECT_EQ(tracked, r.best_energy);
+}
+
+TEST(DifferentialEvolution, AgentReplacedHookFollowsThePopulation) {
+  // Called for every initial agent and every accepted trial, with that index's last
+  // candidate: following it, the caller knows the population, whose best is the best.
+  ThreadPool pool(2);
+  const int N = 8;
+  std::vector<double> last_energy(N, 0.0), agent_energy(N, std::numeric_limits<double>::infinity());
+  DeProblem problem = make_problem(3, sphere);
+  problem.evaluate = [&](int, int index, std::span<const double> x) { return last_energy[index] = sphere(x); };
+  int calls = 0, improvements = 0;
+  DeHooks hooks;
+  hooks.on_agent_replaced = [&](int index) {
+    ++calls;
+    agent_energy[index] = last_energy[index];
+  };
+  hooks.on_generation = [&](const DeGenerationReport& report) { improvements += report.improvements; };
+  const DeResult r = run_differential_evolution(problem, settings(N, 30), pool, hooks);
+  EXPECT_EQ(calls, N + improvements);
+  EXPECT_GT(improvements, 30);
+  EXPECT_EQ(*std::min_element(agent_energy.begin(), agent_energy.end()), r.best_energy);
 }
 
 TEST(DifferentialEvolution, StopsWhenStalled) {

@@ -187,10 +187,10 @@ TEST(RefineTruth, FmmPlusRefineAgainstExactGeodesics) {
     }
   }
   print_summary("within 0.1% of exact", per_mesh, all);
-  // Measured: 44 of 48 since the back-trace no longer uses unfolded virtual edges (46
-  // before). The misses are local geodesics through saddle vertices, in another homotopy
-  // class than the exact one: DE's job (test_de_truth).
-  EXPECT_GE(all.within, 44);
+  // Measured: 47 of 48 since the vertex hops (44 without them). The miss, beethoven
+  // 369 -> 595 (+0.20%), is a local geodesic in another homotopy class than the exact
+  // one, more than a hop away: DE's job (test_de_truth).
+  EXPECT_GE(all.within, 46);
   EXPECT_LT(all.sum_after, 0.1 * all.sum_before);
 }
 

@@ -209,6 +209,7 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
   for (int i = 0; i < N; ++i) {
     if (!evaluated[i]) continue;
     ++result.evaluations;
+    if (hooks.on_agent_replaced) hooks.on_agent_replaced(i);
     if (energies[i] < result.best_energy) {
       result.best_energy = energies[i];
       best = i;
@@ -272,6 +273,7 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
       if (!replaced[i] && !forced) continue;
       std::swap(agents[i], trials[i]);  // trials[i] now holds the parent (for the archive)
       energies[i] = trial_energies[i];
+      if (hooks.on_agent_replaced) hooks.on_agent_replaced(i);
       if (!forced || energies[i] < parent_energies[i]) ++improvements;
       if (energies[i] < result.best_energy) {
         result.best_energy = energies[i];

@@ -2,8 +2,8 @@
 
 #include "depath/error.hpp"
 #include "refine_common.hpp"
-#include "refine_points.hpp"
-#include "refine_reroute.hpp"
+#include "refine_descent.hpp"
+#include "refine_hops.hpp"
 
 #include <cmath>
 #include <string>
@@ -47,39 +47,19 @@ SurfacePath refine_path(const Energy& energy, const SurfacePath& input, const Re
     throw Error(ErrorCode::invalid_argument, "refine_path: two consecutive points of the path share no face");
   }
   snap_and_merge(path);
-  double current = eval.total(path);
 
-  SurfacePath snapshot;
-  for (int sweep = 1; sweep <= options.max_sweeps; ++sweep) {
-    if (is_cancelled(cancelled)) {
-      rep.stop_reason = "cancelled";
-      break;
-    }
-    snapshot = path;
-    const double start = current;
-    double e = optimize_edge_points(eval, path, current, options.max_newton_iterations, cancelled);
-    // Points pushed to an edge end become vertices, where re-routing can act.
-    if (snap_and_merge(path)) e = eval.total(path);
-    const int collapsed = collapse_vertex_runs(eval, path, e);
-    const int removed = remove_redundant_points(eval, path, e) + collapsed;
-    const int rerouted = reroute_vertices(eval, path, e, cancelled);
-    if (removed > 0 || rerouted > 0) snap_and_merge(path);
-    // Re-sum from scratch: the window updates above must not drift, and the guarantee
-    // is about the true total.
-    e = eval.total(path);
-    bool reverted = false;
-    if (!(e <= start)) {
-      path = snapshot;  // round-off made the sweep a (tiny) loss: keep the old path
-      e = start;
-      reverted = true;
-    }
-    current = e;
-    rep.sweeps = sweep;
-    rep.reroutes += rerouted;
-    if (options.on_sweep) options.on_sweep(RefineSweep{sweep, current, eval.evaluations(), &path});
-    const bool structural = !reverted && (removed > 0 || rerouted > 0);
-    if (!structural && !(start - current > options.tolerance * std::abs(start))) break;
-    if (sweep == options.max_sweeps) rep.stop_reason = "max_sweeps";
+  DescentStats stats;
+  double e = descend(eval, path, eval.total(path), options, options.max_sweeps, options.on_sweep, cancelled, stats);
+  // Hops only from a converged descent: the sweep budget is spent otherwise.
+  if (!stats.max_sweeps && !stats.cancelled && options.max_hops > 0) {
+    rep.hops = hop_over_vertices(eval, path, e, options, options.max_sweeps, cancelled, stats);
+  }
+  rep.sweeps = stats.sweeps;
+  rep.reroutes = stats.reroutes;
+  if (stats.cancelled) {
+    rep.stop_reason = "cancelled";
+  } else if (stats.max_sweeps) {
+    rep.stop_reason = "max_sweeps";
   }
   rep.evaluations = eval.evaluations();
 

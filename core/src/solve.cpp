@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <thread>
+#include <vector>
 
 namespace depath {
 namespace {
@@ -50,7 +51,7 @@ SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks)
   MethodOutcome outcome;
   switch (job.method) {
     case Method::fmm:
-      outcome = {fmm_path, fmm_energy, 0, 1, "converged"};
+      outcome = {fmm_path, fmm_energy, 0, 1, "converged", {}};
       if (hooks.on_progress) {
         Progress progress;
         progress.best_energy = progress.mean_energy = fmm_energy;
@@ -76,7 +77,10 @@ SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks)
   result.fmm_energy = fmm_energy;
   const bool cancelled = outcome.stop_reason == "cancelled";
   if (job.refine && !cancelled) {
-    result.path = refine_path(*energy, outcome.path, {}, hooks.is_cancelled);
+    // The method's path first: with equal energies it wins.
+    std::vector<SurfacePath> starts{std::move(outcome.path)};
+    for (SurfacePath& start : outcome.refine_starts) starts.push_back(std::move(start));
+    result.path = refine_best_of(*energy, starts, {}, hooks.is_cancelled);
     result.refined = true;
   } else {
     result.path = std::move(outcome.path);

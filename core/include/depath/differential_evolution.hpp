@@ -123,6 +123,11 @@ struct DeHooks {
   /// `index` of that batch (initial agent or trial) became the new best — before `index`
   /// is evaluated again, so per-index results (e.g. the decoded path) can be kept.
   std::function<void(int index)> on_new_best;
+  /// Called on the calling thread, right after the batch that evaluated it, for every
+  /// agent `index` whose vector is now the candidate just evaluated for that index (each
+  /// initial agent, each accepted trial, each restart's new agent), before `index` is
+  /// evaluated again — so per-index results can follow the population.
+  std::function<void(int index)> on_agent_replaced;
   /// Polled before every evaluation, concurrently from pool threads (must be thread-safe).
   std::function<bool()> is_cancelled;
 };

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace depath {
 
@@ -35,6 +36,9 @@ struct MethodOutcome {
   int generations = 0;
   int64_t evaluations = 0;
   std::string stop_reason;  ///< "converged", "max_generations", "stalled", "cancelled"
+  /// More paths for the optional refinement to start from besides `path` (de: the fmm
+  /// path and the final population's); the refined result is the best of all.
+  std::vector<SurfacePath> refine_starts;
 };
 
 /// DE-Path (core/src/methods/de_method.cpp).

@@ -1,6 +1,7 @@
 #include "job_service.hpp"
 
 #include "depath/wire/wire.hpp"
+#include "grpc_handoff.hpp"
 #include "service_error.hpp"
 #include "unary_call.hpp"
 
@@ -13,6 +14,7 @@ namespace {
 /// Streams a job's events to one client. State is guarded by the subscriber's mutex;
 /// notify() comes from the hub's dispatcher, OnWriteDone from gRPC: whichever finds the
 /// stream idle starts the next write. OnDone detaches and deletes the reactor.
+/// grpc_handoff / grpc_reaction (grpc_handoff.hpp) show TSan gRPC's own ordering.
 class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
  public:
   WatchReactor(ServiceContext& ctx, std::shared_ptr<EventLog> log, uint64_t after_sequence)
@@ -20,12 +22,17 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
     log_->subscribe(sub_);
     std::lock_guard lock(sub_->mutex);
     pump_locked();
+    grpc_handoff(this);  // a write started here waits for the handler to return
   }
 
   /// A stream that fails before it starts.
-  WatchReactor(ServiceContext& ctx, const grpc::Status& status) : ctx_(ctx) { Finish(status); }
+  WatchReactor(ServiceContext& ctx, const grpc::Status& status) : ctx_(ctx) {
+    Finish(status);
+    grpc_handoff(this);
+  }
 
   void OnWriteDone(bool ok) override {
+    grpc_reaction(this);
     std::lock_guard lock(sub_->mutex);
     writing_ = false;
     in_flight_.reset();
@@ -41,6 +48,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
   }
 
   void OnCancel() override {
+    grpc_reaction(this);
     if (!sub_) return;
     std::lock_guard lock(sub_->mutex);
     if (!writing_) finish_locked(grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled by the client"));
@@ -48,6 +56,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
   }
 
   void OnDone() override {
+    grpc_reaction(this);
     if (sub_) {
       {
         std::lock_guard lock(sub_->mutex);
@@ -81,12 +90,14 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
     cursor_ = in_flight_->sequence();
     sent_terminal_ = is_terminal_event(*in_flight_);
     writing_ = true;
+    grpc_handoff(this);
     StartWrite(in_flight_.get());
   }
 
   void finish_locked(const grpc::Status& status) {
     if (finished_) return;
     finished_ = true;
+    grpc_handoff(this);
     Finish(status);
   }
 

@@ -1,0 +1,46 @@
+// Tells ThreadSanitizer how gRPC orders a reactor's operations and reactions.
+//
+// gRPC sequences each call with its own synchronisation (absl::Mutex, atomics in libgrpc).
+// Debian's gRPC is not built with TSan, so TSan cannot see it: a reactor built on one gRPC
+// thread and deleted in OnDone on another, or a buffer filled in one OnReadDone and read in
+// the next, look like data races. These two calls state the callback API's guarantees and
+// nothing more:
+//   * what a thread did before it starts an operation (StartRead, StartWrite, Finish) happens
+//     before that operation's reaction (OnReadDone, OnWriteDone) and before OnDone;
+//   * the reactor is fully built before gRPC runs any reaction (OnCancel included).
+// Code that touches a reactor after handing it to gRPC, or two of our threads touching it
+// without a lock, are still reported. Outside TSan builds both calls compile to nothing.
+#pragma once
+
+#if defined(__SANITIZE_THREAD__)
+#define DEPATH_TSAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define DEPATH_TSAN 1
+#endif
+#endif
+
+#ifdef DEPATH_TSAN
+#include <sanitizer/tsan_interface.h>
+#endif
+
+namespace depath::service {
+
+/// Call right before handing `reactor` to gRPC: immediately before StartRead, StartWrite and
+/// Finish (whatever the thread does between this call and the operation is not covered), and
+/// at the end of the constructor (operations started there begin when the handler returns).
+inline void grpc_handoff([[maybe_unused]] const void* reactor) {
+#ifdef DEPATH_TSAN
+  __tsan_release(const_cast<void*>(reactor));
+#endif
+}
+
+/// Call first in every reaction gRPC runs on `reactor`: OnReadDone, OnWriteDone, OnCancel,
+/// OnDone.
+inline void grpc_reaction([[maybe_unused]] const void* reactor) {
+#ifdef DEPATH_TSAN
+  __tsan_acquire(const_cast<void*>(reactor));
+#endif
+}
+
+}  // namespace depath::service

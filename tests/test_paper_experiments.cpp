@@ -93,7 +93,8 @@ TEST(PaperExperiments, VectorFieldRotation) {
   // grid line y = -0.7, 0.107) traps a population of 20 early; DE must be robust to it,
   // for every seed. Measured with seeds 1-60: 0.0093 - 0.0169 (before smooth seeding and
   // restarts, 6 of seeds 1-10 ended at 0.107 or just above 0.02; with restarts on collapse
-  // only, seed 32 ended at 0.107 and seed 2 at 0.024); descent 0.346.
+  // only, seed 32 ended at 0.107 and seed 2 at 0.024; with multi-start refinement and
+  // vertex hops too, 0.0101 - 0.0169); descent 0.346.
   JobSpec job = de_job(grid_vertex(29, 8), grid_vertex(11, 8), 600);
   job.energy.kind = EnergyKind::vector_field;
   job.energy.field = rotation_field(mesh, Vec3::Zero(), 2);

@@ -100,15 +100,21 @@ TEST(DeMethod, ConvergesOnASmallFlatGrid) {
   expect_valid_path(mesh, r.path, 0, n * n - 1);
 }
 
-// On a curved surface (peaks) the fmm back-trace is off the geodesic by a fraction of a
-// percent; seeded DE starts from it, so it can only end at or below it, and does better.
-TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
-  const int n = 21;
+// n x n MATLAB peaks terrain with alternating diagonals: a curved surface where the fmm
+// back-trace is measurably off the geodesic.
+Mesh peaks_grid(int n) {
   GridOptions options;
   options.n = n;
   options.height = GridHeight::peaks;
   options.diagonals = GridDiagonals::alternating;
-  const Mesh mesh = make_grid(options);
+  return make_grid(options);
+}
+
+// On a curved surface (peaks) the fmm back-trace is off the geodesic by a fraction of a
+// percent; seeded DE starts from it, so it can only end at or below it, and does better.
+TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
+  const int n = 21;
+  const Mesh mesh = peaks_grid(n);
   JobSpec job = de_job(0, n * n - 1, 16, 30);
   job.de.seed_with_problem = true;
   for (const std::string strategy : {"rand1bin", "shade"}) {
@@ -126,11 +132,7 @@ TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
 // and still the same whatever the thread count.
 TEST(DeMethod, RefinedResultIsTheBestOfTheRefinedStarts) {
   const int n = 21;
-  GridOptions options;
-  options.n = n;
-  options.height = GridHeight::peaks;
-  options.diagonals = GridDiagonals::alternating;
-  const Mesh mesh = make_grid(options);
+  const Mesh mesh = peaks_grid(n);
   JobSpec job = de_job(0, n * n - 1, 16, 30);
   job.de.seed_with_problem = true;
   job.de.strategy = "shade";

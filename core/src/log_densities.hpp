@@ -6,9 +6,9 @@
 namespace depath {
 
 /// density[i] = clamp(exp(log_density[i]), DBL_MIN, DBL_MAX) for every i (NaN -> DBL_MIN).
-/// Within 1 ulp of std::exp, about 8x faster: a branch-free loop that the compiler
-/// vectorises (with AVX2 / AVX-512 clones where the CPU has them). Results are the same
-/// bits whichever clone runs. Requires density.size() >= log_density.size().
+/// Within 1 ulp of std::exp; a branch-free loop that the compiler vectorises in its AVX2
+/// and AVX-512 clones (x86-64), 8x cheaper than std::exp there. Results are the same bits
+/// whichever clone runs. Requires density.size() >= log_density.size().
 void densities_from_logs(std::span<const double> log_density, std::span<double> density);
 
 }  // namespace depath

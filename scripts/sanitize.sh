@@ -14,8 +14,9 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 kind="${1:-address,undefined}"
 build="$root/build-${kind//,/-}"
 bash "$root/scripts/setup.sh"
+source "$root/scripts/compiler_cache.sh"
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEPATH_SANITIZE="$kind" \
-  -DDEPATH_BUILD_BENCH=OFF
+  -DDEPATH_BUILD_BENCH=OFF "${depath_cache_flags[@]}"
 cmake --build "$build" -j "${DEPATH_JOBS:-$(nproc)}"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1" UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export TSAN_OPTIONS="suppressions=$root/scripts/tsan.supp:halt_on_error=1"

@@ -7,7 +7,6 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <limits>
 #include <string>
 #include <memory>
@@ -451,35 +450,6 @@ TEST(MakeEnergy, FieldFromHeightWithRotation) {
   // The gradient rotated by 45 degrees in the plane makes 45 degrees with both edges.
   EXPECT_NEAR(diagonal->segment_energy(SurfacePoint::at_vertex(0), SurfacePoint::at_vertex(5), fy), 0.5 * kPi / 4,
               1e-13);
-}
-
-// ---------------------------------------------------------------- cost
-
-TEST(EnergyCost, SegmentEvaluationIsCheap) {
-  const Mesh mesh = flat_grid(41);
-  const auto vf = vector_field(mesh, rotation_field(mesh, Vec3(0.1, 0.2, 0.0), 2));
-  const auto cs = constant_slope(mesh, 0, 0.3);
-  std::vector<std::pair<SurfacePoint, SurfacePoint>> segs;
-  std::vector<int> faces;
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    const auto& t = mesh.face(f);
-    segs.emplace_back(SurfacePoint::on_edge(t[0], t[1], 0.3), SurfacePoint::on_edge(t[1], t[2], 0.6));
-    faces.push_back(f);
-  }
-  for (const Energy* e : {vf.get(), cs.get()}) {
-    double sink = 0.0;
-    const auto start = std::chrono::steady_clock::now();
-    const int rounds = 50;
-    for (int r = 0; r < rounds; ++r)
-      for (size_t i = 0; i < segs.size(); ++i) sink += e->segment_energy(segs[i].first, segs[i].second, faces[i]);
-    const double ns = std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - start).count() /
-                      (rounds * static_cast<double>(segs.size()));
-    std::printf("%s: %.1f ns per segment (sum %.3f)\n", std::string(e->name()).c_str(), ns, sink);
-    // Generous bound (shared, possibly sanitized build); thousands of paths per second need
-    // well under a microsecond per segment.
-    EXPECT_LT(ns, 5000.0);
-    EXPECT_GT(sink, 0.0);
-  }
 }
 
 }  // namespace

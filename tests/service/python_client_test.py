@@ -13,6 +13,10 @@ import tempfile
 import threading
 import time
 
+# Deadlines are liveness bounds, multiplied by the sanitizer slow-down of the depathd under test
+# (tests/time_scale.hpp; set by tests/service/CMakeLists.txt).
+SCALE = float(os.environ.get("DEPATH_TEST_TIME_SCALE", "1"))
+
 
 def grid_obj(n):
     lines = []
@@ -79,12 +83,12 @@ def main():
         check_health = channel.unary_unary("/grpc.health.v1.Health/Check",
                                            request_serializer=health_pb2.HealthCheckRequest.SerializeToString,
                                            response_deserializer=health_pb2.HealthCheckResponse.FromString)
-        reply = check_health(health_pb2.HealthCheckRequest(service=""), timeout=10)
+        reply = check_health(health_pb2.HealthCheckRequest(service=""), timeout=10 * SCALE)
         check(reply.status == health_pb2.HealthCheckResponse.SERVING, "health: %s" % reply)
 
         # Without the token: UNAUTHENTICATED.
         try:
-            jobs.ListJobs(job_pb2.ListJobsRequest(), timeout=10)
+            jobs.ListJobs(job_pb2.ListJobsRequest(), timeout=10 * SCALE)
             check(False, "ListJobs without a token succeeded")
         except grpc.RpcError as e:
             check(e.code() == grpc.StatusCode.UNAUTHENTICATED, "expected UNAUTHENTICATED, got %s" % e.code())
@@ -96,12 +100,12 @@ def main():
             for off in range(0, len(data), 1000):
                 yield mesh_pb2.UploadMeshRequest(chunk=data[off:off + 1000])
 
-        info = meshes.UploadMesh(chunks(), metadata=auth, timeout=30)
+        info = meshes.UploadMesh(chunks(), metadata=auth, timeout=30 * SCALE)
         check(info.id == hashlib.sha256(data).hexdigest(), "mesh id is the SHA-256 of the bytes")
         check(info.num_vertices == 144 and info.num_faces == 242, "counts: %s" % info)
 
         try:
-            meshes.GetMesh(mesh_pb2.GetMeshRequest(id="0" * 64), metadata=auth, timeout=10)
+            meshes.GetMesh(mesh_pb2.GetMeshRequest(id="0" * 64), metadata=auth, timeout=10 * SCALE)
             check(False, "unknown mesh found")
         except grpc.RpcError as e:
             check(e.code() == grpc.StatusCode.NOT_FOUND, "expected NOT_FOUND, got %s" % e.code())
@@ -110,42 +114,42 @@ def main():
                              de=job_pb2.DeOptions(population=8, generations=20), seed=5, path_every=5)
         try:
             jobs.SubmitJob(job_pb2.SubmitJobRequest(spec=job_pb2.JobSpec(mesh_id=info.id, source=1, target=1)),
-                           metadata=auth, timeout=10)
+                           metadata=auth, timeout=10 * SCALE)
             check(False, "s == t accepted")
         except grpc.RpcError as e:
             check(e.code() == grpc.StatusCode.INVALID_ARGUMENT, "expected INVALID_ARGUMENT, got %s" % e.code())
 
         submitted = jobs.SubmitJob(job_pb2.SubmitJobRequest(spec=js, client_request_id="py-1"), metadata=auth,
-                                   timeout=10)
-        again = jobs.SubmitJob(job_pb2.SubmitJobRequest(spec=js, client_request_id="py-1"), metadata=auth, timeout=10)
+                                   timeout=10 * SCALE)
+        again = jobs.SubmitJob(job_pb2.SubmitJobRequest(spec=js, client_request_id="py-1"), metadata=auth, timeout=10 * SCALE)
         check(again.job_id == submitted.job_id and again.existing, "idempotent submit")
 
-        events = list(jobs.WatchJob(job_pb2.WatchJobRequest(job_id=submitted.job_id), metadata=auth, timeout=60))
+        events = list(jobs.WatchJob(job_pb2.WatchJobRequest(job_id=submitted.job_id), metadata=auth, timeout=60 * SCALE))
         seqs = [e.sequence for e in events]
         check(seqs == sorted(seqs) and len(set(seqs)) == len(seqs), "sequences increase: %s" % seqs)
         states = [e.state.state for e in events if e.WhichOneof("kind") == "state"]
         check(states[-1] == job_pb2.JOB_STATE_SUCCEEDED, "final state: %s" % states)
         results = [e.result for e in events if e.WhichOneof("kind") == "result"]
         check(len(results) == 1 and len(results[0].path.points) >= 2, "one result with a path")
-        fetched = jobs.GetResult(job_pb2.GetResultRequest(job_id=submitted.job_id), metadata=auth, timeout=10)
+        fetched = jobs.GetResult(job_pb2.GetResultRequest(job_id=submitted.job_id), metadata=auth, timeout=10 * SCALE)
         check(fetched == results[0], "GetResult equals the streamed result")
         p0 = fetched.path.points[0]
         check(abs(p0.x) < 1e-12 and abs(p0.y) < 1e-12, "path starts at the source vertex")
 
         # Resume after the first event: no state change lost.
         tail = list(jobs.WatchJob(job_pb2.WatchJobRequest(job_id=submitted.job_id, after_sequence=1),
-                                  metadata=auth, timeout=60))
+                                  metadata=auth, timeout=60 * SCALE))
         check(all(e.sequence > 1 for e in tail), "resume skips seen events")
         check(tail[-1].state.state == job_pb2.JOB_STATE_SUCCEEDED, "resume ends with the final state")
 
         # Cancel a long job from Python while another thread watches it.
         long_spec = job_pb2.JobSpec(mesh_id=info.id, source=0, target=143, method=job_pb2.METHOD_DE,
                                     de=job_pb2.DeOptions(population=8, generations=1000000))
-        long_job = jobs.SubmitJob(job_pb2.SubmitJobRequest(spec=long_spec), metadata=auth, timeout=10).job_id
+        long_job = jobs.SubmitJob(job_pb2.SubmitJobRequest(spec=long_spec), metadata=auth, timeout=10 * SCALE).job_id
         seen = []
 
         def watch():
-            for e in jobs.WatchJob(job_pb2.WatchJobRequest(job_id=long_job), metadata=auth, timeout=60):
+            for e in jobs.WatchJob(job_pb2.WatchJobRequest(job_id=long_job), metadata=auth, timeout=60 * SCALE):
                 seen.append(e)
 
         t = threading.Thread(target=watch)
@@ -154,18 +158,18 @@ def main():
             if any(e.WhichOneof("kind") == "progress" for e in seen):
                 break
             time.sleep(0.01)
-        jobs.CancelJob(job_pb2.CancelJobRequest(job_id=long_job), metadata=auth, timeout=10)
+        jobs.CancelJob(job_pb2.CancelJobRequest(job_id=long_job), metadata=auth, timeout=10 * SCALE)
         t.join(30)
         check(not t.is_alive(), "watch ended after cancel")
         check(seen[-1].state.state == job_pb2.JOB_STATE_CANCELLED, "cancelled: %s" % seen[-1])
 
-        listed = jobs.ListJobs(job_pb2.ListJobsRequest(), metadata=auth, timeout=10)
+        listed = jobs.ListJobs(job_pb2.ListJobsRequest(), metadata=auth, timeout=10 * SCALE)
         check(len(listed.jobs) == 2, "two jobs listed")
         channel.close()
     finally:
         server.send_signal(signal.SIGTERM)
         try:
-            rc = server.wait(timeout=20)
+            rc = server.wait(timeout=20 * SCALE)
         except subprocess.TimeoutExpired:
             server.kill()
             rc = -1

@@ -71,7 +71,8 @@ class Daemon {
       ::execv(argv[0], argv.data());
       std::_Exit(127);
     }
-    for (int i = 0; i < 1000 && !fs::exists(port_file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const int polls = static_cast<int>(1000 * time_scale());  // 10 s (times the sanitizer slow-down) to start
+    for (int i = 0; i < polls && !fs::exists(port_file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
     port_ = std::stoi(read_text(port_file));
   }
   ~Daemon() {
@@ -214,7 +215,7 @@ TEST_F(BinaryTest, SigtermMidJobEndsWatchersAndExitsPromptly) {
     const auto w = run_command(client("watch " + job + " --json", d) + " > " + watch_out.string());
     std::ofstream(watch_rc) << w.rc;
   });
-  for (int i = 0; i < 1000; ++i) {
+  for (int i = 0; i < 1000 * time_scale(); ++i) {  // 20 s (times the sanitizer slow-down)
     if (read_text(watch_out).find("\"progress\"") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

@@ -476,8 +476,9 @@ TEST(ServiceJobs, ConcurrentJobsShareThePool) {
   const std::string id = ts.upload_ok(grid_obj(20));
   std::vector<std::string> jobs;
   for (int i = 0; i < 3; ++i) jobs.push_back(ts.submit_ok(long_job(id, i, 399 - i)));
-  // All three run at once and all make progress on the shared pool.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  // All three run at once and all make progress on the shared pool (a liveness wait: three
+  // generations take milliseconds in Release).
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(30.0 * test::time_scale());
   bool all_progressing = false;
   while (!all_progressing && std::chrono::steady_clock::now() < deadline) {
     all_progressing = true;
@@ -601,7 +602,7 @@ TEST(ServiceShutdown, MidJobEndsWatchersCleanlyAndRefusesNewWork) {
   // gives up waiting after options.shutdown_timeout_seconds (5 s) whatever happens; the 2 s
   // margin (times the sanitizer slow-down) covers joining the threads afterwards.
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_LT(seconds, quiet_options().shutdown_timeout_seconds + 2.0 * test::time_scale());
+  EXPECT_LT(seconds, ts->options().shutdown_timeout_seconds + 2.0 * test::time_scale());
   for (auto& t : watchers) t.join();
   for (int i = 0; i < kWatchers; ++i) {
     EXPECT_TRUE(statuses[i].ok()) << statuses[i].error_message();

@@ -2,6 +2,8 @@
 // gRPC, small generated meshes, and blocking helpers for the RPCs.
 #pragma once
 
+#include "time_scale.hpp"
+
 #include "depath/v1/job.grpc.pb.h"
 #include "depath/v1/mesh.grpc.pb.h"
 #include "depath/wire/wire.hpp"
@@ -74,7 +76,9 @@ class TestServer {
 
   std::unique_ptr<grpc::ClientContext> context(double timeout = 60) const {
     auto ctx = std::make_unique<grpc::ClientContext>();
-    ctx->set_deadline(std::chrono::system_clock::now() + std::chrono::milliseconds(static_cast<int>(timeout * 1000)));
+    // Deadlines are liveness bounds: scaled by the sanitizer slow-down (time_scale.hpp).
+    ctx->set_deadline(std::chrono::system_clock::now() +
+                      std::chrono::milliseconds(static_cast<int>(timeout * time_scale() * 1000)));
     if (!token.empty()) ctx->AddMetadata("authorization", "Bearer " + token);
     return ctx;
   }

@@ -4,10 +4,10 @@
 //
 // Reports, per mesh: a full-mesh fast march (no early stop), a decode with the early stop
 // at the target (what DE does thousands of times), and throughput in vertices per second.
-#include "depath/energy.hpp"
-#include "depath/fast_marching.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/path_decoder.hpp"
+#include "depath/energy/energy.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/decode/path_decoder.hpp"
 
 #include <benchmark/benchmark.h>
 

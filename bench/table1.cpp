@@ -22,10 +22,10 @@
 //   --only   runs just the rows whose "application mesh" contains TEXT (for profiling).
 //   --repeat runs each row K times and reports the fastest (the runs are identical, so the
 //            spread is the machine's other load; default 1).
-#include "depath/mesh_io.hpp"
-#include "depath/scalar_files.hpp"
-#include "depath/solve.hpp"
-#include "depath/surface_generators.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/vertex_data.hpp"
+#include "depath/solve/solve.hpp"
+#include "depath/generators/surfaces.hpp"
 
 #include <algorithm>
 #include <chrono>

@@ -1,10 +1,10 @@
 // `depath generate grid|peaks|cone`: writes the paper's test surfaces (SPEC §4) to OBJ, OFF
 // or PLY, optionally with a per-vertex field file for the vector_field experiments.
 #include "commands.hpp"
-#include "depath/error.hpp"
-#include "depath/mesh_writer.hpp"
-#include "depath/surface_generators.hpp"
-#include "depath/tangent_fields.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_writer.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/mesh/tangent_fields.hpp"
 #include "job_options.hpp"
 
 #include <cstdio>

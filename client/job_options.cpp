@@ -1,7 +1,7 @@
 #include "job_options.hpp"
 
-#include "depath/error.hpp"
-#include "depath/scalar_files.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/vertex_data.hpp"
 
 namespace depath::cli {
 

@@ -1,7 +1,7 @@
 // The job flags of SPEC §4, shared by `solve`, `submit` and `run` so they mean the same.
 #pragma once
 
-#include "depath/job.hpp"
+#include "depath/solve/job.hpp"
 
 #include <CLI/CLI.hpp>
 

@@ -1,6 +1,6 @@
 // `depath`: the command-line client and embedded engine.
 #include "commands.hpp"
-#include "depath/error.hpp"
+#include "depath/util/error.hpp"
 
 #include <CLI/CLI.hpp>
 

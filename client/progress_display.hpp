@@ -2,7 +2,7 @@
 // occasional plain lines otherwise (logs, pipes).
 #pragma once
 
-#include "depath/solve.hpp"
+#include "depath/solve/solve.hpp"
 
 #include <nlohmann/json.hpp>
 

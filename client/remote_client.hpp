@@ -3,7 +3,7 @@
 // dropped connection, and gRPC statuses turned into depath::Error messages.
 #pragma once
 
-#include "depath/error.hpp"
+#include "depath/util/error.hpp"
 #include "depath/v1/job.grpc.pb.h"
 #include "depath/v1/mesh.grpc.pb.h"
 

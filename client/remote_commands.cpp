@@ -1,9 +1,9 @@
 // Network subcommands of `depath` (SPEC §4): upload, submit, watch, result, jobs, cancel,
 // run, health. They talk to depathd through RemoteClient.
 #include "commands.hpp"
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/path_io.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/result_writer.hpp"
 #include "depath/wire/wire.hpp"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "job_options.hpp"

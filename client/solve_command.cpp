@@ -1,9 +1,9 @@
 // `depath solve`: runs a job with the embedded engine (no server).
 #include "commands.hpp"
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/path_io.hpp"
-#include "depath/solve.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/result_writer.hpp"
+#include "depath/solve/solve.hpp"
 #include "job_options.hpp"
 #include "progress_display.hpp"
 

@@ -1,7 +1,7 @@
 #include "depath/wire/wire.hpp"
 
-#include "depath/path_io.hpp"
-#include "depath/surface_path.hpp"
+#include "depath/io/result_writer.hpp"
+#include "depath/mesh/surface_path.hpp"
 
 #include <algorithm>
 #include <map>

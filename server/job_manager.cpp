@@ -1,7 +1,7 @@
 #include "job_manager.hpp"
 
-#include "depath/error.hpp"
-#include "depath/solve.hpp"
+#include "depath/util/error.hpp"
+#include "depath/solve/solve.hpp"
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
 

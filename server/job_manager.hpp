@@ -3,7 +3,7 @@
 // their events, cancels them, forgets finished ones after --job-ttl-seconds.
 #pragma once
 
-#include "depath/thread_pool.hpp"
+#include "depath/util/thread_pool.hpp"
 #include "depath/v1/job.pb.h"
 #include "event_log.hpp"
 #include "log.hpp"

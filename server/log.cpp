@@ -1,6 +1,6 @@
 #include "log.hpp"
 
-#include "depath/error.hpp"
+#include "depath/util/error.hpp"
 
 #include <spdlog/sinks/stdout_sinks.h>
 

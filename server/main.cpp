@@ -1,5 +1,5 @@
 // depathd: the depath gRPC server (SPEC §3).
-#include "depath/error.hpp"
+#include "depath/util/error.hpp"
 #include "server.hpp"
 
 #include <CLI/CLI.hpp>

@@ -1,7 +1,7 @@
 #include "mesh_service.hpp"
 
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
 #include "depath/wire/wire.hpp"
 #include "grpc_handoff.hpp"
 #include "service_error.hpp"

@@ -1,7 +1,7 @@
 #include "mesh_store.hpp"
 
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
 

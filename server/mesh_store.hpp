@@ -2,7 +2,7 @@
 // evicts a mesh a queued or running job holds, optionally backed by a directory on disk.
 #pragma once
 
-#include "depath/mesh.hpp"
+#include "depath/mesh/mesh.hpp"
 #include "depath/v1/mesh.pb.h"
 #include "log.hpp"
 

@@ -1,7 +1,7 @@
 #include "server.hpp"
 
-#include "depath/error.hpp"
-#include "depath/thread_pool.hpp"
+#include "depath/util/error.hpp"
+#include "depath/util/thread_pool.hpp"
 #include "event_log.hpp"
 #include "job_manager.hpp"
 #include "job_service.hpp"

@@ -2,7 +2,7 @@
 // and the one place that turns any exception into a gRPC status.
 #pragma once
 
-#include "depath/error.hpp"
+#include "depath/util/error.hpp"
 #include "depath/wire/wire.hpp"
 
 #include <grpcpp/support/status.h>

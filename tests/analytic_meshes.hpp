@@ -1,7 +1,7 @@
 // Meshes with known geodesics for the tests: icospheres and open cylinders.
 #pragma once
 
-#include "depath/mesh.hpp"
+#include "depath/mesh/mesh.hpp"
 
 #include <array>
 #include <cmath>

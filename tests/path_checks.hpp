@@ -1,8 +1,8 @@
 // Structural checks of a surface path, shared by the tests.
 #pragma once
 
-#include "depath/mesh.hpp"
-#include "depath/surface_path.hpp"
+#include "depath/mesh/mesh.hpp"
+#include "depath/mesh/surface_path.hpp"
 
 #include <gtest/gtest.h>
 

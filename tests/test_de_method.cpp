@@ -1,10 +1,10 @@
 // Method `de` end to end through solve(): reproducibility across thread counts,
 // convergence, never worse than `fmm` when seeded, progress reports, stop rules.
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/refine_path.hpp"
-#include "depath/solve.hpp"
-#include "depath/surface_generators.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/refine/refine.hpp"
+#include "depath/solve/solve.hpp"
+#include "depath/generators/surfaces.hpp"
 
 #include "test_support.hpp"
 

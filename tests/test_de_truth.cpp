@@ -7,9 +7,9 @@
 // classes within 0.4% of each other (for 1051 -> 2350 DE's best decoded path refines to
 // +0.31% above the exact one, through saddle vertices); the multi-start refinement and
 // the vertex hops get every pair to the exact class or within 0.1% of it.
-#include "depath/mesh_io.hpp"
-#include "depath/scalar_files.hpp"
-#include "depath/solve.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/vertex_data.hpp"
+#include "depath/solve/solve.hpp"
 #include "path_checks.hpp"
 #include "test_support.hpp"
 #include "time_scale.hpp"

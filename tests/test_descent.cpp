@@ -1,8 +1,8 @@
 // The `descent` method through solve(): local refinement started from the fmm path.
-#include "depath/job.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/solve.hpp"
-#include "depath/surface_generators.hpp"
+#include "depath/solve/job.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/solve/solve.hpp"
+#include "depath/generators/surfaces.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // The generic DE optimizer on analytic functions: operators, stop rules, reproducibility.
-#include "depath/differential_evolution.hpp"
-#include "depath/error.hpp"
-#include "depath/thread_pool.hpp"
+#include "depath/de/differential_evolution.hpp"
+#include "depath/util/error.hpp"
+#include "depath/util/thread_pool.hpp"
 
-#include "../core/src/de/de_strategy.hpp"
+#include "../core/src/de/strategy.hpp"
 
 #include <gtest/gtest.h>
 

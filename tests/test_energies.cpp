@@ -1,8 +1,8 @@
 // Unit tests of the vector_field and constant_slope energies against analytic values.
-#include "depath/energy.hpp"
-#include "depath/error.hpp"
-#include "depath/surface_generators.hpp"
-#include "depath/tangent_fields.hpp"
+#include "depath/energy/energy.hpp"
+#include "depath/util/error.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/mesh/tangent_fields.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // Fast marching and back-tracing on surfaces with analytic geodesics.
 #include "analytic_meshes.hpp"
-#include "depath/energy.hpp"
-#include "depath/fast_marching.hpp"
-#include "depath/path_decoder.hpp"
-#include "depath/surface_generators.hpp"
+#include "depath/energy/energy.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/decode/path_decoder.hpp"
+#include "depath/generators/surfaces.hpp"
 #include "path_checks.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 // The `fmm` method against exact polyhedral geodesics and weighted Steiner-graph references.
-#include "depath/mesh_io.hpp"
-#include "depath/scalar_files.hpp"
-#include "depath/solve.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/vertex_data.hpp"
+#include "depath/solve/solve.hpp"
 #include "test_support.hpp"
 #include "truth_tables.hpp"
 

@@ -1,10 +1,10 @@
 // Surface generators (grids, MATLAB peaks, cones), the mesh writer, and the tangent-field
 // generators, against analytic values.
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/mesh_writer.hpp"
-#include "depath/surface_generators.hpp"
-#include "depath/tangent_fields.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/mesh_writer.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/mesh/tangent_fields.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>

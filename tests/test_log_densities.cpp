@@ -1,8 +1,8 @@
 // Densities from DE's log-densities: the vectorised exp against std::exp, its clamping,
 // and fast marching on log-densities against fast marching on the densities themselves.
-#include "../core/src/log_densities.hpp"
-#include "depath/fast_marching.hpp"
-#include "depath/surface_generators.hpp"
+#include "../core/src/decode/log_densities.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/generators/surfaces.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // Mesh loading (all formats) and the input rules of SPEC §2.
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -14,9 +14,9 @@
 // refinement; the thresholds are the (paper: 0.053 and 0.062 normalized energy,
 // mean slope errors 0.157 and 0.227 on terrains). Local descent from the fmm path gets stuck
 // (paper Fig. 7), so DE must beat it.
-#include "depath/solve.hpp"
-#include "depath/surface_generators.hpp"
-#include "depath/tangent_fields.hpp"
+#include "depath/solve/solve.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/mesh/tangent_fields.hpp"
 #include "time_scale.hpp"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
 // Local path refinement on hand-built meshes whose shortest paths are known exactly,
 // plus the guarantees (never worse, valid path, end points kept) for every energy.
-#include "depath/energy.hpp"
-#include "depath/error.hpp"
-#include "depath/fast_marching.hpp"
-#include "depath/path_decoder.hpp"
-#include "depath/refine_path.hpp"
-#include "depath/surface_generators.hpp"
+#include "depath/energy/energy.hpp"
+#include "depath/util/error.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/decode/path_decoder.hpp"
+#include "depath/refine/refine.hpp"
+#include "depath/generators/surfaces.hpp"
 
 #include <gtest/gtest.h>
 

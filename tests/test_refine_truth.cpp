@@ -1,11 +1,11 @@
 // Refinement of `fmm` paths (the `descent` method) on the shared meshes, measured against
 // exact geodesic distances and the weighted Steiner-graph upper bounds.
-#include "depath/energy.hpp"
-#include "depath/fast_marching.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/path_decoder.hpp"
-#include "depath/refine_path.hpp"
-#include "depath/scalar_files.hpp"
+#include "depath/energy/energy.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/decode/path_decoder.hpp"
+#include "depath/refine/refine.hpp"
+#include "depath/io/vertex_data.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>

@@ -1,9 +1,9 @@
 // solve(): the job rules of SPEC §2 (each error names the problem) and the result writers.
-#include "depath/error.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/path_io.hpp"
-#include "depath/scalar_files.hpp"
-#include "depath/solve.hpp"
+#include "depath/util/error.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/result_writer.hpp"
+#include "depath/io/vertex_data.hpp"
+#include "depath/solve/solve.hpp"
 #include "path_checks.hpp"
 #include "test_support.hpp"
 

@@ -1,5 +1,5 @@
 // ThreadPool: every index once, distinct slots per batch, many callers, exceptions.
-#include "depath/thread_pool.hpp"
+#include "depath/util/thread_pool.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,10 +1,10 @@
 // The back-trace always terminates with a valid path: every shared mesh (slivers,
 // boundaries, stray components), DE-like random densities, degenerate faces.
-#include "depath/energy.hpp"
-#include "depath/fast_marching.hpp"
-#include "depath/mesh_io.hpp"
-#include "depath/path_decoder.hpp"
-#include "depath/surface_generators.hpp"
+#include "depath/energy/energy.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/decode/path_decoder.hpp"
+#include "depath/generators/surfaces.hpp"
 #include "path_checks.hpp"
 #include "test_support.hpp"
 

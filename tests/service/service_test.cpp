@@ -1,8 +1,8 @@
 // The service through real gRPC on loopback: an in-process server (depath_service) on
 // 127.0.0.1:0 and generated stubs, no mocks.
-#include "depath/mesh_io.hpp"
-#include "depath/path_io.hpp"
-#include "depath/solve.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/result_writer.hpp"
+#include "depath/solve/solve.hpp"
 #include "event_log.hpp"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "service_test_support.hpp"

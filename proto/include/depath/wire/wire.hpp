@@ -5,10 +5,10 @@
 #include "depath/v1/job.pb.h"
 #include "depath/v1/mesh.pb.h"
 
-#include "depath/error.hpp"
-#include "depath/job.hpp"
-#include "depath/mesh.hpp"
-#include "depath/solve.hpp"
+#include "depath/util/error.hpp"
+#include "depath/solve/job.hpp"
+#include "depath/mesh/mesh.hpp"
+#include "depath/solve/solve.hpp"
 
 #include <grpcpp/support/status.h>
 #include <nlohmann/json.hpp>

@@ -1,0 +1,114 @@
+// Fast marching for |grad u| = rho on a triangle mesh, with a reusable workspace.
+#pragma once
+
+#include "depath/mesh/mesh.hpp"
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace depath {
+
+/// Precomputed, density-independent update stencils of a mesh: for each vertex the
+/// triangle updates it takes part in, with obtuse corners split by unfolding (virtual
+/// edges) so that every update is causal. Build once per mesh; share between threads.
+class FastMarchingStencils {
+ public:
+  explicit FastMarchingStencils(const Mesh& mesh);
+  const Mesh& mesh() const { return mesh_; }
+
+  /// The updates an accepting vertex x triggers, grouped by target c: one straight edge
+  /// candidate x -> c per group (shortest |c - x| over the faces, +inf when c-x is no mesh
+  /// edge) and the triangle updates "c from (x, other)". The edge candidate other -> c is
+  /// not repeated here: it was applied when `other` was accepted and always dominates.
+  /// Geometry is kept in float: the table stays cache-resident, and float's 1e-7 relative
+  /// error is far below the method's discretisation error.
+  struct Group {
+    int32_t target;     ///< vertex whose value is updated
+    float len;          ///< |target - x|, +inf when target-x is no mesh edge
+    int32_t tri_begin;  ///< triangle updates [tri_begin, tri_end) of tris()
+    int32_t tri_end;
+  };
+  struct Tri {
+    int32_t other;    ///< second support vertex (must be final too)
+    float lambda0;    ///< foot of the perpendicular from target on the support line, as parameter
+    float height;     ///< distance from target to the support line
+    float inv_len2;   ///< 1 / |other - x|^2 (in the unfolded plane)
+  };
+  const Group* groups_begin(int v) const { return groups_.data() + offset_[v]; }
+  const Group* groups_end(int v) const { return groups_.data() + offset_[v + 1]; }
+  const Tri* tris() const { return tris_.data(); }
+  /// Number of obtuse corners that were split with a virtual edge / left unsplit.
+  int num_split_corners() const { return num_split_; }
+  int num_unsplit_obtuse_corners() const { return num_unsplit_; }
+
+ private:
+  const Mesh& mesh_;
+  std::vector<int> offset_;
+  std::vector<Group> groups_;
+  std::vector<Tri> tris_;
+  int num_split_ = 0;
+  int num_unsplit_ = 0;
+};
+
+/// Fast marching workspace: solves |grad u| = rho from one source vertex, rho per
+/// vertex, linear in faces (each update charges a straight segment length * mean of the
+/// densities at its ends). Reuses its arrays across runs: no allocation per decode.
+///
+/// Guarantees: values are finite exactly for the vertices reached; the acceptance order
+/// is non-decreasing in u; every accepted vertex other than the source has a mesh
+/// neighbour accepted before it with a value not larger than its own.
+class FastMarching {
+ public:
+  explicit FastMarching(const FastMarchingStencils& stencils);
+
+  /// Runs from `source`. If `stop_vertex` >= 0, stops as soon as it and every vertex of
+  /// its incident faces are final (what the back-trace from it needs). `density` has one
+  /// positive finite value per vertex.
+  void run(std::span<const double> density, int source, int stop_vertex = -1);
+
+  /// Same with the density given as logarithms: vertex v's density is
+  /// clamp(exp(log_density[v]), DBL_MIN, DBL_MAX) (within 1 ulp; NaN counts as -inf), 0
+  /// past the end of the span.
+  void run_log(std::span<const double> log_density, int source, int stop_vertex = -1);
+
+  /// Value at v: final, tentative (reached but not final) or +infinity.
+  double value(int v) const { return u_[v]; }
+  const std::vector<double>& values() const { return u_; }
+  bool is_final(int v) const { return state_[v] == kFinal; }
+  /// Position of v in the acceptance order (0 for the source), or INT32_MAX.
+  int32_t order(int v) const { return order_[v]; }
+  int num_final() const { return num_final_; }
+  /// The final vertices in acceptance order.
+  std::span<const int32_t> accepted() const { return {accepted_.data(), size_t(num_final_)}; }
+  const FastMarchingStencils& stencils() const { return stencils_; }
+
+ private:
+  static constexpr uint8_t kFar = 0, kTrial = 1, kFinal = 2;
+  void march(const double* density, int source, int stop_vertex);
+  void reset();
+  void push_or_decrease(int v, double value);
+  int pop_min();
+
+  const FastMarchingStencils& stencils_;
+  std::vector<double> u_;
+  std::vector<uint8_t> state_;
+  std::vector<int32_t> order_;
+  std::vector<int32_t> accepted_;  // final vertices in acceptance order
+  std::vector<int32_t> touched_;   // every vertex given a finite value this run
+  std::vector<double> rho_;        // densities computed by run_log
+  struct HeapEntry {
+    double key;  // copy of u_[vertex]: sifting compares without an indirection
+    int32_t vertex;
+  };
+  // 4-ary min-heap on key; heap_ points into heap_store_ (set at the start of each run)
+  // so that each group of four siblings shares one 64-byte cache line.
+  std::vector<HeapEntry> heap_store_;
+  HeapEntry* heap_ = nullptr;
+  int heap_size_ = 0;
+  std::vector<int32_t> heap_pos_;  // position of each vertex in heap_, or -1
+  int num_final_ = 0;
+};
+
+}  // namespace depath

@@ -1,0 +1,89 @@
+// The energy interface: what a path costs. One implementation per file in core/src/energy/.
+#pragma once
+
+#include "depath/mesh/mesh.hpp"
+#include "depath/mesh/surface_path.hpp"
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace depath {
+
+/// A named figure reported next to the energy (e.g. "normalized_energy", "mean_slope_error").
+struct Metric {
+  std::string name;
+  double value = 0.0;
+};
+
+/// Energy of a surface path: a sum of per-segment terms plus an optional smoothness
+/// penalty (lambda * sum of turning angles between consecutive segments, radians).
+///
+/// Implementations are immutable after construction and safe to call from many threads.
+class Energy {
+ public:
+  Energy(const Mesh& mesh, double smoothness) : mesh_(mesh), smoothness_(smoothness) {}
+  virtual ~Energy() = default;
+
+  /// "geodesic", "vector_field" or "constant_slope".
+  virtual std::string_view name() const = 0;
+
+  /// Energy of the straight segment a -> b lying in face `face` (a and b on its boundary).
+  virtual double segment_energy(const SurfacePoint& a, const SurfacePoint& b, int face) const = 0;
+
+  /// Extra figures for a final path (normalized energy, slope error, ...). Default: none.
+  virtual std::vector<Metric> metrics(const SurfacePath& path) const { return {}; }
+
+  /// Per-vertex density that the `fmm` baseline decodes (the problem's own density).
+  /// Default: uniform 1 (plain geodesic distance).
+  virtual std::vector<double> baseline_density() const;
+
+  /// Sum of segment energies plus the smoothness penalty.
+  double evaluate(const SurfacePath& path) const;
+
+  /// The smoothness penalty weight lambda (>= 0).
+  double smoothness() const { return smoothness_; }
+
+  /// Turning angle (radians, in [0, pi]) at point `i` of the path (0 at the end points).
+  double turning_angle(const SurfacePath& path, int i) const;
+
+  const Mesh& mesh() const { return mesh_; }
+
+ protected:
+  const Mesh& mesh_;
+  double smoothness_;
+};
+
+/// Which energy a job minimises.
+enum class EnergyKind { geodesic, vector_field, constant_slope };
+
+/// Parses "geodesic" | "vector_field" | "constant_slope"; throws Error(invalid_argument).
+EnergyKind parse_energy_kind(std::string_view name);
+const char* energy_kind_name(EnergyKind kind);
+
+/// Everything needed to build an energy for a mesh.
+struct EnergySpec {
+  EnergyKind kind = EnergyKind::geodesic;
+  /// geodesic: per-vertex density (>= 0, finite); empty means 1 everywhere.
+  std::vector<double> density;
+  /// vector_field: per-vertex 3D vectors (projected onto each face's plane).
+  std::vector<Vec3> field;
+  /// vector_field: generate the field as the gradient of the height (up axis) instead.
+  bool field_from_height = false;
+  /// Rotation of a generated field in the tangent plane, degrees (counter-clockwise
+  /// about the face normal).
+  double rotate_degrees = 0.0;
+  /// constant_slope: the target slope k = dz/ds (>= 0).
+  double slope = 0.0;
+  /// Height axis for terrain energies and generators: 0 = x, 1 = y, 2 = z.
+  int up_axis = 2;
+  /// Smoothness penalty weight lambda (>= 0).
+  double smoothness = 0.0;
+};
+
+/// Builds the energy; throws Error(invalid_argument) naming the problem (wrong array
+/// length, negative or non-finite density, missing field, negative slope, ...).
+std::unique_ptr<Energy> make_energy(const Mesh& mesh, const EnergySpec& spec);
+
+}  // namespace depath

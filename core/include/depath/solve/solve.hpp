@@ -1,0 +1,62 @@
+// The one entry point that runs a job: used by `depath solve`, the server and the tests.
+#pragma once
+
+#include "depath/solve/job.hpp"
+#include "depath/mesh/mesh.hpp"
+#include "depath/mesh/surface_path.hpp"
+#include "depath/energy/energy.hpp"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace depath {
+
+class ThreadPool;
+
+/// Per-generation report (methods without generations report once, as generation 0).
+struct Progress {
+  int generation = 0;            ///< 1-based generation just finished
+  int max_generations = 0;
+  double best_energy = 0.0;
+  double mean_energy = 0.0;
+  int64_t evaluations = 0;       ///< energy evaluations so far
+  int improvements = 0;          ///< agents replaced by a better trial in this generation
+  double elapsed_seconds = 0.0;
+  const SurfacePath* best_path = nullptr;  ///< set every `path_every` generations, else null
+};
+
+/// Final result of a job.
+struct SolveResult {
+  SurfacePath path;
+  double energy = 0.0;
+  double length = 0.0;
+  Method method = Method::de;
+  bool refined = false;
+  int generations = 0;
+  int64_t evaluations = 0;
+  double seconds = 0.0;
+  double fmm_energy = 0.0;    ///< energy of the `fmm` baseline path on the same problem
+  std::vector<Metric> metrics;  ///< energy-specific figures (normalized energy, slope error)
+  std::string stop_reason;    ///< "converged", "max_generations", "stalled", "cancelled"
+};
+
+/// Hooks the caller may set; all optional.
+struct SolveHooks {
+  /// Called on the solving thread after each generation (keep it cheap).
+  std::function<void(const Progress&)> on_progress;
+  /// Polled between evaluations; once true, the method stops and the best so far is returned
+  /// with stop_reason "cancelled".
+  std::function<bool()> is_cancelled;
+  /// Pool to evaluate on (the server's shared pool). Null: solve() makes one with
+  /// job.threads threads.
+  ThreadPool* pool = nullptr;
+};
+
+/// Validates and runs a job. Throws Error (invalid_argument, failed_precondition) for bad
+/// jobs. Results are reproducible: same mesh, job and seed give the same path and energy
+/// whatever the number of threads.
+SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks = {});
+
+}  // namespace depath

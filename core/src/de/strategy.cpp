@@ -1,0 +1,44 @@
+// The strategy registry and the sampling helpers the strategies share.
+#include "de/strategy.hpp"
+
+#include "depath/util/error.hpp"
+
+#include <algorithm>
+
+namespace depath::de {
+
+// Each strategy's factory, defined in its own file.
+std::unique_ptr<Strategy> make_rand1bin(const DeSettings& settings);
+std::unique_ptr<Strategy> make_shade(const DeSettings& settings, int population, int dimension);
+
+std::unique_ptr<Strategy> make_strategy(const DeSettings& settings, int population, int dimension) {
+  if (settings.strategy == "rand1bin") return make_rand1bin(settings);
+  if (settings.strategy == "shade") return make_shade(settings, population, dimension);
+  std::string names;
+  for (const auto& name : de_strategy_names()) names += (names.empty() ? "" : ", ") + name;
+  throw Error(ErrorCode::invalid_argument,
+              "unknown DE strategy '" + settings.strategy + "' (valid strategies: " + names + ")");
+}
+
+void pick_distinct(DeRandom& rng, int n, std::span<const int> exclude, std::span<int> out) {
+  for (size_t k = 0; k < out.size(); ++k) {
+    for (;;) {
+      const int r = rng.below(n);
+      if (std::find(exclude.begin(), exclude.end(), r) != exclude.end()) continue;
+      if (std::find(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), r) != out.begin() + static_cast<std::ptrdiff_t>(k)) continue;
+      out[k] = r;
+      break;
+    }
+  }
+}
+
+}  // namespace depath::de
+
+namespace depath {
+
+const std::vector<std::string>& de_strategy_names() {
+  static const std::vector<std::string> names = {"rand1bin", "shade"};
+  return names;
+}
+
+}  // namespace depath

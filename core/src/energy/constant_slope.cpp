@@ -1,0 +1,83 @@
+#include "energy/constant_slope.hpp"
+
+#include "depath/mesh/tangent_fields.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+
+namespace depath {
+
+ConstantSlopeEnergy::ConstantSlopeEnergy(const Mesh& mesh, int up_axis, double slope, double smoothness)
+    : Energy(mesh, smoothness), up_axis_(up_axis), slope_(slope) {
+  const std::vector<Vec3> grads = height_gradients(mesh, up_axis);
+  faces_.resize(mesh.num_faces());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    const FaceFrame frame = face_frame(mesh, f);
+    FaceData& d = faces_[f];
+    d.e1 = frame.e1;
+    d.e2 = frame.e2;
+    d.u1x = d.u1y = d.u2x = d.u2y = 0.0;
+    d.has_target = false;
+    if (!frame.valid) continue;
+    const double gx = grads[f].dot(frame.e1), gy = grads[f].dot(frame.e2);
+    const double g = std::hypot(gx, gy);
+    if (!(g > 0.0)) continue;
+    d.has_target = true;
+    const double hx = gx / g, hy = gy / g;  // unit gradient direction
+    if (g <= slope) {
+      d.u1x = d.u2x = hx;
+      d.u1y = d.u2y = hy;
+      continue;
+    }
+    // Rotate the gradient direction by +/- theta; (-hy, hx) is n x (unit gradient).
+    const double c = slope / g;
+    const double s = std::sqrt(std::max(0.0, 1.0 - c * c));
+    d.u1x = c * hx - s * hy;
+    d.u1y = c * hy + s * hx;
+    d.u2x = c * hx + s * hy;
+    d.u2y = c * hy - s * hx;
+  }
+}
+
+double ConstantSlopeEnergy::segment_energy(const SurfacePoint& a, const SurfacePoint& b, int face) const {
+  const FaceData& d = faces_[face];
+  if (!d.has_target) return 0.0;
+  const Vec3 seg = b.position(mesh_) - a.position(mesh_);
+  const double length = seg.norm();
+  if (!(length > 0.0)) return 0.0;
+  const double dx = seg.dot(d.e1), dy = seg.dot(d.e2);
+  // Acute angle between lines: atan2(|cross|, |dot|); the segment needs no normalising.
+  const double a1 = std::atan2(std::abs(dx * d.u1y - dy * d.u1x), std::abs(dx * d.u1x + dy * d.u1y));
+  const double a2 = std::atan2(std::abs(dx * d.u2y - dy * d.u2x), std::abs(dx * d.u2x + dy * d.u2y));
+  return length * std::min(a1, a2);
+}
+
+double ConstantSlopeEnergy::slope_energy(const SurfacePath& path) const {
+  double sum = 0.0;
+  for (int i = 0; i < path.num_segments(); ++i)
+    sum += segment_energy(path.points[i], path.points[i + 1], path.segment_faces[i]);
+  return sum;
+}
+
+double ConstantSlopeEnergy::mean_slope_error(const SurfacePath& path) const {
+  double weighted = 0.0, total = 0.0;
+  for (int i = 0; i < path.num_segments(); ++i) {
+    const Vec3 seg = path.points[i + 1].position(mesh_) - path.points[i].position(mesh_);
+    const double length = seg.norm();
+    if (!(length > 0.0)) continue;
+    // length * | |dz| / length - k |
+    weighted += std::abs(std::abs(seg[up_axis_]) - slope_ * length);
+    total += length;
+  }
+  return total > 0.0 ? weighted / total : 0.0;
+}
+
+std::vector<Metric> ConstantSlopeEnergy::metrics(const SurfacePath& path) const {
+  const double length = path_length(mesh_, path);
+  return {{"normalized_energy", length > 0.0 ? slope_energy(path) / length : 0.0},
+          {"mean_slope_error", mean_slope_error(path)}};
+}
+
+}  // namespace depath

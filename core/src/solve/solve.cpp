@@ -1,0 +1,95 @@
+#include "depath/solve/solve.hpp"
+
+#include "depath/util/error.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/decode/path_decoder.hpp"
+#include "depath/refine/refine.hpp"
+#include "depath/util/thread_pool.hpp"
+#include "solve/methods/methods.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <thread>
+#include <vector>
+
+namespace depath {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks) {
+  const auto start = std::chrono::steady_clock::now();
+  validate_job_options(mesh, job);
+  const std::unique_ptr<Energy> energy = make_energy(mesh, job.energy);
+  const FastMarchingStencils stencils(mesh);
+
+  std::optional<ThreadPool> own_pool;
+  ThreadPool* pool = hooks.pool;
+  if (pool == nullptr) {
+    const int threads = job.threads > 0 ? job.threads : std::max(1u, std::thread::hardware_concurrency());
+    pool = &own_pool.emplace(threads - 1);
+  }
+
+  // The classic FMM baseline: every method reports it, `fmm` returns it, `descent` starts there.
+  SurfacePath fmm_path;
+  {
+    PathDecoder decoder(stencils);
+    if (!decoder.decode(energy->baseline_density(), job.source, job.target, fmm_path))
+      throw Error(ErrorCode::failed_precondition, "no path: target vertex " + std::to_string(job.target) +
+                                                      " cannot be reached from source vertex " +
+                                                      std::to_string(job.source));
+  }
+  const double fmm_energy = energy->evaluate(fmm_path);
+
+  const MethodContext ctx{mesh, stencils, *energy, job, hooks, *pool, start, fmm_path, fmm_energy};
+  MethodOutcome outcome;
+  switch (job.method) {
+    case Method::fmm:
+      outcome = {fmm_path, fmm_energy, 0, 1, "converged", {}};
+      if (hooks.on_progress) {
+        Progress progress;
+        progress.best_energy = progress.mean_energy = fmm_energy;
+        progress.evaluations = 1;
+        progress.elapsed_seconds = seconds_since(start);
+        progress.best_path = job.path_every > 0 ? &outcome.path : nullptr;
+        hooks.on_progress(progress);
+      }
+      break;
+    case Method::de:
+      outcome = run_de_method(ctx);
+      break;
+    case Method::descent:
+      outcome = run_descent_method(ctx);
+      break;
+  }
+
+  SolveResult result;
+  result.method = job.method;
+  result.generations = outcome.generations;
+  result.evaluations = outcome.evaluations;
+  result.stop_reason = outcome.stop_reason;
+  result.fmm_energy = fmm_energy;
+  const bool cancelled = outcome.stop_reason == "cancelled";
+  if (job.refine && !cancelled) {
+    // The method's path first: with equal energies it wins.
+    std::vector<SurfacePath> starts{std::move(outcome.path)};
+    for (SurfacePath& start : outcome.refine_starts) starts.push_back(std::move(start));
+    result.path = refine_best_of(*energy, starts, {}, hooks.is_cancelled);
+    result.refined = true;
+  } else {
+    result.path = std::move(outcome.path);
+  }
+  result.energy = energy->evaluate(result.path);
+  result.length = path_length(mesh, result.path);
+  result.metrics = energy->metrics(result.path);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace depath

@@ -7,8 +7,8 @@
 // Thousands of refined paths per second need well under a microsecond per segment; this
 // figure used to be a timed test (EnergyCost.SegmentEvaluationIsCheap), which could fail on
 // a loaded or sanitized build, so it is a benchmark now.
-#include "depath/energy.hpp"
-#include "depath/surface_generators.hpp"
+#include "depath/energy/energy.hpp"
+#include "depath/generators/surfaces.hpp"
 
 #include <benchmark/benchmark.h>
 

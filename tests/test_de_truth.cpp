@@ -24,13 +24,6 @@
 namespace depath {
 namespace {
 
-const Mesh& mesh_named(const std::string& name) {
-  static std::map<std::string, std::unique_ptr<Mesh>> cache;
-  auto& slot = cache[name];
-  if (!slot) slot = std::make_unique<Mesh>(load_mesh(test::shared_data("meshes/" + name)));
-  return *slot;
-}
-
 JobSpec de_refine_job(int s, int t) {
   JobSpec job;
   job.source = s;
@@ -52,7 +45,7 @@ TEST(DeTruth, UniformGeodesicWithinATenthOfAPercentOfExact) {
   int pairs = 0;
   for (const auto& row : test::read_exact_geodesics(test::shared_data("truth/geodesic_exact.csv"))) {
     if (!meshes.count(row.mesh)) continue;
-    const Mesh& mesh = mesh_named(row.mesh);
+    const Mesh& mesh = test::shared_mesh(row.mesh);
     const SolveResult r = solve(mesh, de_refine_job(row.source, row.target));
     EXPECT_TRUE(test::is_valid_path(mesh, r.path, row.source, row.target));
     const double error = r.length / row.length - 1.0;
@@ -70,7 +63,7 @@ TEST(DeTruth, BumpDensitiesWithinOnePercentOfSteinerAndBetterThanFmm) {
   DEPATH_REQUIRE_SHARED_DATA();
   double worst = -1.0;
   for (const auto& row : test::read_weighted_references(test::shared_data("truth/weighted_steiner.csv"))) {
-    const Mesh& mesh = mesh_named(row.mesh);
+    const Mesh& mesh = test::shared_mesh(row.mesh);
     JobSpec job = de_refine_job(row.source, row.target);
     job.energy.density = read_scalar_file(test::shared_data("fields/" + row.density));
     const SolveResult r = solve(mesh, job);

@@ -63,10 +63,6 @@ JobSpec job_from_proto(const v1::JobSpec& spec) {
   if (de.has_strategy()) job.de.strategy = de.strategy();
   job.de.seed_with_problem = de.seed_with_problem();
   if (spec.has_seed()) job.seed = spec.seed();
-  if (spec.path_every() < 0) {
-    throw Error(ErrorCode::invalid_argument,
-                "path_every must be >= 0 (got " + std::to_string(spec.path_every()) + ")");
-  }
   job.path_every = spec.path_every();
   return job;
 }

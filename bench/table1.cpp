@@ -26,6 +26,7 @@
 #include "depath/io/vertex_data.hpp"
 #include "depath/solve/solve.hpp"
 #include "depath/generators/surfaces.hpp"
+#include "../tests/job_builders.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -79,15 +80,9 @@ std::vector<double> centre_bump(const Mesh& mesh, double sigma) {
   return rho;
 }
 
+// Seed 1; threads are set per run.
 JobSpec job_for(int source, int target, int agents, int iterations) {
-  JobSpec job;
-  job.source = source;
-  job.target = target;
-  job.method = Method::de;
-  job.de.population = agents;
-  job.de.generations = iterations;
-  job.seed = 1;
-  return job;
+  return test::de_job(source, target, agents, iterations, /*seed=*/1, /*threads=*/0);
 }
 
 std::vector<Row> make_rows(const std::string& data) {

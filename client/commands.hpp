@@ -1,4 +1,5 @@
-// Subcommands of the `depath` command line; each add_* registers one or more on the app.
+// Subcommands of the `depath` command line, one file each (client/<name>_command.cpp); each
+// add_*_command registers its subcommand on the app.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -7,12 +8,17 @@ namespace depath::cli {
 
 /// `depath solve`: run a job in-process (embedded engine, no server).
 void add_solve_command(CLI::App& app);
-
-/// Network subcommands talking to depathd: upload, submit, watch, result, jobs, cancel,
-/// run, health (client/remote_commands.cpp; built when the service is).
-void add_remote_commands(CLI::App& app);
-
-/// `depath generate grid|peaks|cone`: write the paper's test surfaces (client/generate_command.cpp).
+/// `depath generate grid|peaks|cone`: write the paper's test surfaces.
 void add_generate_command(CLI::App& app);
+
+// Network subcommands talking to depathd (built when the service is; SPEC §4).
+void add_upload_command(CLI::App& app);
+void add_submit_command(CLI::App& app);
+void add_watch_command(CLI::App& app);
+void add_result_command(CLI::App& app);
+void add_jobs_command(CLI::App& app);
+void add_cancel_command(CLI::App& app);
+void add_run_command(CLI::App& app);
+void add_health_command(CLI::App& app);
 
 }  // namespace depath::cli

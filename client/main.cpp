@@ -14,7 +14,14 @@ int main(int argc, char** argv) {
   depath::cli::add_solve_command(app);
   depath::cli::add_generate_command(app);
 #ifdef DEPATH_WITH_REMOTE
-  depath::cli::add_remote_commands(app);
+  depath::cli::add_upload_command(app);
+  depath::cli::add_submit_command(app);
+  depath::cli::add_watch_command(app);
+  depath::cli::add_result_command(app);
+  depath::cli::add_jobs_command(app);
+  depath::cli::add_cancel_command(app);
+  depath::cli::add_run_command(app);
+  depath::cli::add_health_command(app);
 #endif
   try {
     app.parse(argc, argv);

@@ -23,14 +23,6 @@ ServiceError not_found(const std::string& id) {
 }
 }  // namespace
 
-bool is_mesh_id(const std::string& id) {
-  if (id.size() != 64) return false;
-  for (char c : id) {
-    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
-  }
-  return true;
-}
-
 MeshLease::~MeshLease() { store_->release(record_); }
 
 MeshStore::MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log)

@@ -4,6 +4,7 @@
 
 #include "depath/mesh/mesh.hpp"
 #include "depath/v1/mesh.pb.h"
+#include "depath/wire/mesh.hpp"
 #include "log.hpp"
 
 #include <cstdint>
@@ -100,7 +101,7 @@ class MeshStore {
   uint64_t bytes_ = 0;
 };
 
-/// True for a 64-character lowercase hex string.
-bool is_mesh_id(const std::string& id);
+/// True for a 64-character lowercase hex string (the wire layer's one check of a mesh id).
+using wire::is_mesh_id;
 
 }  // namespace depath::service

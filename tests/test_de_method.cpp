@@ -6,7 +6,9 @@
 #include "depath/solve/solve.hpp"
 #include "depath/generators/surfaces.hpp"
 
+#include "job_builders.hpp"
 #include "test_support.hpp"
+#include "truth_tables.hpp"
 
 #include <gtest/gtest.h>
 
@@ -43,17 +45,7 @@ Mesh grid(int n, GridHeight height) {
   return make_grid(options);
 }
 
-JobSpec de_job(int source, int target, int population, int generations, uint64_t seed = 3) {
-  JobSpec job;
-  job.source = source;
-  job.target = target;
-  job.method = Method::de;
-  job.de.population = population;
-  job.de.generations = generations;
-  job.seed = seed;
-  job.threads = 1;
-  return job;
-}
+using test::de_job;
 
 TEST(DeMethod, SameSeedSameResultWhateverTheThreadCount) {
   const Mesh mesh = grid(17, GridHeight::peaks);
@@ -163,35 +155,23 @@ TEST(DeMethod, UniformGeodesicOnSharedMeshesNeverWorseThanFmm) {
   DEPATH_REQUIRE_SHARED_DATA();
   std::ifstream truth(test::shared_data("truth/geodesic_exact.csv"));
   ASSERT_TRUE(truth) << "truth/geodesic_exact.csv missing";
-  std::string line;
-  std::getline(truth, line);  // header
   std::map<std::string, int> pairs_per_mesh;
-  std::map<std::string, Mesh> meshes;
   int checked = 0;
-  while (std::getline(truth, line)) {
-    std::stringstream row(line);
-    std::string name, field;
-    std::getline(row, name, ',');
+  for (const auto& row : test::read_exact_geodesics(test::shared_data("truth/geodesic_exact.csv"))) {
+    const std::string& name = row.mesh;
     if (name != "kitten.off" && name != "cone.off" && name != "terrain_grid30.obj") continue;
     if (++pairs_per_mesh[name] > 3) continue;
-    int s = 0, t = 0;
-    double exact = 0.0;
-    std::getline(row, field, ',');
-    s = std::stoi(field);
-    std::getline(row, field, ',');
-    t = std::stoi(field);
-    std::getline(row, field, ',');
-    exact = std::stod(field);
-    auto it = meshes.find(name);
-    if (it == meshes.end()) it = meshes.emplace(name, load_mesh(test::shared_data("meshes/" + name))).first;
+    const int s = row.source, t = row.target;
+    const double exact = row.length;
+    const Mesh& mesh = test::shared_mesh(name);
     JobSpec job = de_job(s, t, 10, 8);
     job.de.seed_with_problem = true;
     job.threads = 2;
-    const SolveResult r = solve(it->second, job);
+    const SolveResult r = solve(mesh, job);
     SCOPED_TRACE(name + " " + std::to_string(s) + " -> " + std::to_string(t));
     EXPECT_LE(r.energy, r.fmm_energy);
     EXPECT_GE(r.energy, exact * (1.0 - 1e-9)) << "shorter than the exact geodesic: the path is not on the surface";
-    expect_valid_path(it->second, r.path, s, t);
+    expect_valid_path(mesh, r.path, s, t);
     ++checked;
   }
   EXPECT_EQ(checked, 9);

@@ -25,13 +25,6 @@
 namespace depath {
 namespace {
 
-const Mesh& mesh_named(const std::string& name) {
-  static std::map<std::string, std::unique_ptr<Mesh>> cache;
-  auto& slot = cache[name];
-  if (!slot) slot = std::make_unique<Mesh>(load_mesh(test::shared_data("meshes/" + name)));
-  return *slot;
-}
-
 // Sanitizer runs check memory and thread safety, not accuracy, and run 5-15x slower: there
 // every 6th pair is solved (every mesh still appears), all of them in the Release suite.
 int pair_stride() { return test::sanitized_build() ? 6 : 1; }
@@ -58,7 +51,7 @@ TEST(DeTruth, UniformGeodesicWithinATenthOfAPercentOfExact) {
   for (const auto& row : test::read_exact_geodesics(test::shared_data("truth/geodesic_exact.csv"))) {
     if (!meshes.count(row.mesh)) continue;
     if (index++ % pair_stride() != 0) continue;
-    const Mesh& mesh = mesh_named(row.mesh);
+    const Mesh& mesh = test::shared_mesh(row.mesh);
     const SolveResult r = solve(mesh, de_refine_job(row.source, row.target));
     EXPECT_TRUE(test::is_valid_path(mesh, r.path, row.source, row.target));
     const double error = r.length / row.length - 1.0;
@@ -79,7 +72,7 @@ TEST(DeTruth, BumpDensitiesWithinOnePercentOfSteinerAndBetterThanFmm) {
   int index = 0;
   for (const auto& row : test::read_weighted_references(test::shared_data("truth/weighted_steiner.csv"))) {
     if (index++ % pair_stride() != 0) continue;
-    const Mesh& mesh = mesh_named(row.mesh);
+    const Mesh& mesh = test::shared_mesh(row.mesh);
     JobSpec job = de_refine_job(row.source, row.target);
     job.energy.density = read_scalar_file(test::shared_data("fields/" + row.density));
     const SolveResult r = solve(mesh, job);

@@ -15,13 +15,6 @@
 namespace depath {
 namespace {
 
-const Mesh& cached_mesh(const std::string& name) {
-  static std::map<std::string, std::unique_ptr<Mesh>> cache;
-  auto& slot = cache[name];
-  if (!slot) slot = std::make_unique<Mesh>(load_mesh(test::shared_data("meshes/" + name)));
-  return *slot;
-}
-
 SolveResult solve_fmm(const Mesh& mesh, int s, int t, std::vector<double> density = {}) {
   JobSpec job;
   job.source = s;
@@ -44,7 +37,7 @@ TEST(FmmTruth, PathLengthsCloseToExactGeodesics) {
   std::vector<double> errors;
   std::map<std::string, double> worst_per_mesh;
   for (const auto& row : rows) {
-    const Mesh& mesh = cached_mesh(row.mesh);
+    const Mesh& mesh = test::shared_mesh(row.mesh);
     const SolveResult r = solve_fmm(mesh, row.source, row.target);
     const double error = r.length / row.length - 1.0;
     // A surface path can never be shorter than the exact geodesic.
@@ -66,7 +59,7 @@ TEST(FmmTruth, WeightedCostsCloseToSteinerReferences) {
   ASSERT_GT(rows.size(), 20u);
   std::vector<double> errors;
   for (const auto& row : rows) {
-    const Mesh& mesh = cached_mesh(row.mesh);
+    const Mesh& mesh = test::shared_mesh(row.mesh);
     const auto density = read_scalar_file(test::shared_data("fields/" + row.density));
     const SolveResult r = solve_fmm(mesh, row.source, row.target, density);
     errors.push_back(r.energy / row.cost_k16 - 1.0);

@@ -7,6 +7,7 @@
 #include "depath/refine/refine.hpp"
 #include "depath/io/vertex_data.hpp"
 #include "test_support.hpp"
+#include "truth_tables.hpp"
 
 #include <gtest/gtest.h>
 
@@ -30,27 +31,17 @@ struct Row {
   double value = 0.0;
 };
 
-// Reads `mesh,source,target,value` (geodesic_exact.csv) or
-// `mesh,density,source,target,cost_k16,...` (weighted_steiner.csv) rows for the given meshes.
+// The rows of geodesic_exact.csv (value: exact length) or weighted_steiner.csv (value:
+// cost_k16) for the given meshes, through the truth tests' one CSV reader.
 std::vector<Row> read_rows(const std::string& file, bool weighted, const std::vector<std::string>& meshes) {
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);  // header
+  auto wanted = [&](const std::string& mesh) { return std::find(meshes.begin(), meshes.end(), mesh) != meshes.end(); };
   std::vector<Row> rows;
-  while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    std::vector<std::string> cells;
-    std::string cell;
-    while (std::getline(ss, cell, ',')) cells.push_back(cell);
-    if (cells.size() < (weighted ? 5u : 4u)) continue;
-    Row row;
-    int c = 0;
-    row.mesh = cells[c++];
-    if (weighted) row.density = cells[c++];
-    row.source = std::stoi(cells[c++]);
-    row.target = std::stoi(cells[c++]);
-    row.value = std::stod(cells[c++]);
-    if (std::find(meshes.begin(), meshes.end(), row.mesh) != meshes.end()) rows.push_back(row);
+  if (weighted) {
+    for (const auto& r : test::read_weighted_references(file))
+      if (wanted(r.mesh)) rows.push_back({r.mesh, r.density, r.source, r.target, r.cost_k16});
+  } else {
+    for (const auto& r : test::read_exact_geodesics(file))
+      if (wanted(r.mesh)) rows.push_back({r.mesh, "", r.source, r.target, r.length});
   }
   return rows;
 }

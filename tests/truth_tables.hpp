@@ -1,7 +1,13 @@
-// Readers for the reference tables in ../shared/data/truth/.
+// Readers for the reference tables in ../shared/data/truth/ (one CSV reader for every truth
+// test), and the shared meshes they name, loaded once per test binary.
 #pragma once
 
+#include "depath/io/mesh_reader.hpp"
+#include "test_support.hpp"
+
 #include <fstream>
+#include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -47,6 +53,14 @@ inline std::vector<WeightedReference> read_weighted_references(const std::string
   for (const auto& r : read_csv_rows(path))
     out.push_back({r[0], r[1], std::stoi(r[2]), std::stoi(r[3]), std::stod(r[4]), std::stod(r[5])});
   return out;
+}
+
+/// The shared mesh `name` (under meshes/), loaded on first use and kept.
+inline const Mesh& shared_mesh(const std::string& name) {
+  static std::map<std::string, std::unique_ptr<Mesh>> cache;
+  auto& slot = cache[name];
+  if (!slot) slot = std::make_unique<Mesh>(load_mesh(shared_data("meshes/" + name)));
+  return *slot;
 }
 
 }  // namespace depath::test

@@ -316,7 +316,7 @@ void expect_same_as_local(TestServer& ts, const std::string& obj, const v1::JobS
   const auto without_mesh = wire::result_message_to_json(fetched, nullptr);
   EXPECT_EQ(with_mesh["points"], without_mesh["points"]);
   EXPECT_EQ(with_mesh["crossings"], without_mesh["crossings"]);
-  EXPECT_EQ(with_mesh["points"], result_to_json(mesh, local)["points"]);
+  EXPECT_EQ(with_mesh["points"], nlohmann::json::parse(result_json(mesh, local))["points"]);
 }
 
 TEST(ServiceJobs, GeodesicDeMatchesLocalSolve) {

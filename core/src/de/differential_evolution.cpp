@@ -76,6 +76,18 @@ double DeRandom::cauchy(double location, double scale) {
 // ---------------------------------------------------------------------------------------
 // Settings
 
+void validate_de_parameters(int population, int generations, int stall, double F, double CR,
+                            const std::string& strategy) {
+  auto fail = [](const std::string& message) { throw Error(ErrorCode::invalid_argument, message); };
+  if (population < 4)
+    fail("population must be at least 4 (DE needs 3 other agents), got " + std::to_string(population));
+  if (generations < 1) fail("generations must be at least 1, got " + std::to_string(generations));
+  if (stall < 0) fail("stall must be >= 0 (0 = never stop early), got " + std::to_string(stall));
+  if (!std::isfinite(F) || F <= 0.0 || F > 2.0) fail("F must be in (0, 2], got " + std::to_string(F));
+  if (!std::isfinite(CR) || CR < 0.0 || CR > 1.0) fail("CR must be in [0, 1], got " + std::to_string(CR));
+  de::check_strategy_name(strategy);
+}
+
 void validate_de_settings(const DeSettings& s, int dimension) {
   auto fail = [](const std::string& message) { throw Error(ErrorCode::invalid_argument, message); };
   auto str = [](double v) {
@@ -84,17 +96,7 @@ void validate_de_settings(const DeSettings& s, int dimension) {
     return os.str();
   };
   if (dimension < 1) fail("DE problem dimension must be >= 1 (got " + std::to_string(dimension) + ")");
-  if (s.population < 4) fail("DE population must be >= 4 (got " + std::to_string(s.population) + ")");
-  if (s.generations < 1) fail("DE generations must be >= 1 (got " + std::to_string(s.generations) + ")");
-  if (s.stall < 0) fail("DE stall must be >= 0 (got " + std::to_string(s.stall) + ")");
-  if (!(s.F > 0.0 && s.F <= 2.0)) fail("DE F must be in (0, 2] (got " + str(s.F) + ")");
-  if (!(s.CR >= 0.0 && s.CR <= 1.0)) fail("DE CR must be in [0, 1] (got " + str(s.CR) + ")");
-  const auto& names = de_strategy_names();
-  if (std::find(names.begin(), names.end(), s.strategy) == names.end()) {
-    std::string list;
-    for (const auto& name : names) list += (list.empty() ? "" : ", ") + name;
-    fail("unknown DE strategy '" + s.strategy + "' (valid strategies: " + list + ")");
-  }
+  validate_de_parameters(s.population, s.generations, s.stall, s.F, s.CR, s.strategy);
   if (!s.seed_point.empty() && static_cast<int>(s.seed_point.size()) != dimension) {
     fail("DE seed point has " + std::to_string(s.seed_point.size()) + " values, expected " +
          std::to_string(dimension));

@@ -14,10 +14,16 @@ std::unique_ptr<Strategy> make_shade(const DeSettings& settings, int population,
 std::unique_ptr<Strategy> make_strategy(const DeSettings& settings, int population, int dimension) {
   if (settings.strategy == "rand1bin") return make_rand1bin(settings);
   if (settings.strategy == "shade") return make_shade(settings, population, dimension);
-  std::string names;
-  for (const auto& name : de_strategy_names()) names += (names.empty() ? "" : ", ") + name;
-  throw Error(ErrorCode::invalid_argument,
-              "unknown DE strategy '" + settings.strategy + "' (valid strategies: " + names + ")");
+  check_strategy_name(settings.strategy);
+  throw Error(ErrorCode::internal, "DE strategy '" + settings.strategy + "' has no factory");
+}
+
+void check_strategy_name(const std::string& name) {
+  const auto& names = de_strategy_names();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return;
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+  throw Error(ErrorCode::invalid_argument, "unknown DE strategy '" + name + "' (valid strategies: " + list + ")");
 }
 
 void pick_distinct(DeRandom& rng, int n, std::span<const int> exclude, std::span<int> out) {

@@ -58,6 +58,9 @@ class Strategy {
 
 /// Builds the strategy named settings.strategy. Throws Error(invalid_argument) naming the
 /// valid strategies for an unknown name.
+/// Throws Error(invalid_argument) naming `name` and the valid strategies unless it is one.
+void check_strategy_name(const std::string& name);
+
 std::unique_ptr<Strategy> make_strategy(const DeSettings& settings, int population, int dimension);
 
 /// Draws k distinct indices in [0, n) that differ from every index in `exclude`

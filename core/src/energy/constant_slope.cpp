@@ -1,5 +1,6 @@
 #include "energy/constant_slope.hpp"
 
+#include "energy/angles.hpp"
 #include "depath/mesh/tangent_fields.hpp"
 
 #include <Eigen/Geometry>
@@ -48,18 +49,10 @@ double ConstantSlopeEnergy::segment_energy(const SurfacePoint& a, const SurfaceP
   const double length = seg.norm();
   if (!(length > 0.0)) return 0.0;
   const double dx = seg.dot(d.e1), dy = seg.dot(d.e2);
-  // Acute angle between lines: atan2(|cross|, |dot|); the segment needs no normalising.
-  const double a1 = std::atan2(std::abs(dx * d.u1y - dy * d.u1x), std::abs(dx * d.u1x + dy * d.u1y));
-  const double a2 = std::atan2(std::abs(dx * d.u2y - dy * d.u2x), std::abs(dx * d.u2x + dy * d.u2y));
-  return length * std::min(a1, a2);
+  return length * std::min(acute_angle(dx, dy, d.u1x, d.u1y), acute_angle(dx, dy, d.u2x, d.u2y));
 }
 
-double ConstantSlopeEnergy::slope_energy(const SurfacePath& path) const {
-  double sum = 0.0;
-  for (int i = 0; i < path.num_segments(); ++i)
-    sum += segment_energy(path.points[i], path.points[i + 1], path.segment_faces[i]);
-  return sum;
-}
+double ConstantSlopeEnergy::slope_energy(const SurfacePath& path) const { return segment_sum(path); }
 
 double ConstantSlopeEnergy::mean_slope_error(const SurfacePath& path) const {
   double weighted = 0.0, total = 0.0;

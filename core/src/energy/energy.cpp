@@ -20,11 +20,16 @@ double Energy::turning_angle(const SurfacePath& path, int i) const {
   return std::atan2(a.cross(b).norm(), a.dot(b));
 }
 
-double Energy::evaluate(const SurfacePath& path) const {
+double Energy::segment_sum(const SurfacePath& path) const {
   double total = 0.0;
-  const int segments = path.num_segments();
-  for (int i = 0; i < segments; ++i)
+  for (int i = 0; i < path.num_segments(); ++i)
     total += segment_energy(path.points[i], path.points[i + 1], path.segment_faces[i]);
+  return total;
+}
+
+double Energy::evaluate(const SurfacePath& path) const {
+  double total = segment_sum(path);
+  const int segments = path.num_segments();
   if (smoothness_ > 0.0) {
     double turning = 0.0;
     for (int i = 1; i < segments; ++i) turning += turning_angle(path, i);

@@ -1,5 +1,6 @@
 #include "energy/vector_field.hpp"
 
+#include "energy/angles.hpp"
 #include "depath/mesh/tangent_fields.hpp"
 
 #include <Eigen/Geometry>
@@ -92,9 +93,7 @@ double VectorFieldEnergy::segment_energy(const SurfacePoint& a, const SurfacePoi
       const double s = kNodes[q];
       const double wx = (1.0 - s) * wax + s * wbx, wy = (1.0 - s) * way + s * wby;
       if (wx * wx + wy * wy <= zero_norm2_) continue;
-      // atan2 of |cross| and |dot| is the acute angle between the two lines; neither
-      // vector needs normalising.
-      mean_angle += kWeights[q] * std::atan2(std::abs(dx * wy - dy * wx), std::abs(dx * wx + dy * wy));
+      mean_angle += kWeights[q] * acute_angle(dx, dy, wx, wy);
     }
   } else {
     const auto& t = mesh_.face(face);
@@ -110,12 +109,7 @@ double VectorFieldEnergy::segment_energy(const SurfacePoint& a, const SurfacePoi
   return length * mean_angle;
 }
 
-double VectorFieldEnergy::field_energy(const SurfacePath& path) const {
-  double sum = 0.0;
-  for (int i = 0; i < path.num_segments(); ++i)
-    sum += segment_energy(path.points[i], path.points[i + 1], path.segment_faces[i]);
-  return sum;
-}
+double VectorFieldEnergy::field_energy(const SurfacePath& path) const { return segment_sum(path); }
 
 std::vector<Metric> VectorFieldEnergy::metrics(const SurfacePath& path) const {
   const double length = path_length(mesh_, path);

@@ -1,5 +1,6 @@
 #include "depath/generators/surfaces.hpp"
 
+#include "depath/mesh/tangent_fields.hpp"
 #include "depath/util/error.hpp"
 
 #include <cmath>
@@ -10,11 +11,6 @@
 namespace depath {
 
 namespace {
-
-void check_axis(int up_axis) {
-  if (up_axis < 0 || up_axis > 2)
-    throw Error(ErrorCode::invalid_argument, "up axis must be 0 (x), 1 (y) or 2 (z), got " + std::to_string(up_axis));
-}
 
 void check_positive(double value, const char* what) {
   if (!std::isfinite(value) || !(value > 0.0))
@@ -53,7 +49,7 @@ double matlab_peaks(double x, double y) {
 }
 
 Mesh make_grid(const GridOptions& o) {
-  check_axis(o.up_axis);
+  check_up_axis(o.up_axis);
   if (o.n < 2) throw Error(ErrorCode::invalid_argument, "grid needs n >= 2 vertices per side, got " + std::to_string(o.n));
   if (o.n > 20000) throw Error(ErrorCode::invalid_argument, "grid n = " + std::to_string(o.n) + " is too large (max 20000)");
   check_positive(o.half_size, "grid half size");
@@ -94,7 +90,7 @@ Mesh make_grid(const GridOptions& o) {
 }
 
 Mesh make_cone(const ConeOptions& o) {
-  check_axis(o.up_axis);
+  check_up_axis(o.up_axis);
   check_positive(o.height, "cone height");
   check_positive(o.radius, "cone radius");
   if (o.rings < 1) throw Error(ErrorCode::invalid_argument, "cone needs rings >= 1, got " + std::to_string(o.rings));

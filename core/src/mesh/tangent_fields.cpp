@@ -10,12 +10,12 @@
 
 namespace depath {
 
-namespace {
-
-void check_axis(int up_axis) {
+void check_up_axis(int up_axis) {
   if (up_axis < 0 || up_axis > 2)
     throw Error(ErrorCode::invalid_argument, "up axis must be 0 (x), 1 (y) or 2 (z), got " + std::to_string(up_axis));
 }
+
+namespace {
 
 Vec3 axis_vector(int up_axis) {
   Vec3 up = Vec3::Zero();
@@ -65,7 +65,7 @@ std::vector<Vec3> face_gradients(const Mesh& mesh, const std::vector<double>& sc
 }
 
 std::vector<Vec3> height_gradients(const Mesh& mesh, int up_axis) {
-  check_axis(up_axis);
+  check_up_axis(up_axis);
   std::vector<double> height(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) height[v] = mesh.position(v)[up_axis];
   return face_gradients(mesh, height);
@@ -122,7 +122,7 @@ std::vector<Vec3> scalar_gradient_field(const Mesh& mesh, const std::vector<doub
 }
 
 std::vector<Vec3> rotation_field(const Mesh& mesh, const Vec3& origin, int up_axis) {
-  check_axis(up_axis);
+  check_up_axis(up_axis);
   const Vec3 up = axis_vector(up_axis);
   std::vector<Vec3> out(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) out[v] = up.cross(mesh.position(v) - origin);
@@ -130,7 +130,7 @@ std::vector<Vec3> rotation_field(const Mesh& mesh, const Vec3& origin, int up_ax
 }
 
 std::vector<Vec3> converge_field(const Mesh& mesh, const Vec3& origin, int up_axis, double length) {
-  check_axis(up_axis);
+  check_up_axis(up_axis);
   if (!std::isfinite(length) || !(length > 0.0))
     throw Error(ErrorCode::invalid_argument, "converge field length must be finite and > 0");
   const int u_axis = (up_axis + 1) % 3, v_axis = (up_axis + 2) % 3;

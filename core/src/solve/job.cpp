@@ -49,20 +49,7 @@ void validate_job_options(const Mesh& mesh, const JobSpec& job) {
                 "no path: source vertex " + std::to_string(job.source) + " and target vertex " +
                     std::to_string(job.target) + " lie in different connected components of the mesh");
   const DeOptions& de = job.de;
-  if (de.population < 4)
-    invalid("population must be at least 4 (DE needs 3 other agents), got " + std::to_string(de.population));
-  if (de.generations < 1) invalid("generations must be at least 1, got " + std::to_string(de.generations));
-  if (de.stall < 0) invalid("stall must be >= 0 (0 = never stop early), got " + std::to_string(de.stall));
-  if (!std::isfinite(de.F) || de.F <= 0.0 || de.F > 2.0)
-    invalid("F must be in (0, 2], got " + std::to_string(de.F));
-  if (!std::isfinite(de.CR) || de.CR < 0.0 || de.CR > 1.0)
-    invalid("CR must be in [0, 1], got " + std::to_string(de.CR));
-  const auto& strategies = de_strategy_names();
-  if (std::find(strategies.begin(), strategies.end(), de.strategy) == strategies.end()) {
-    std::string list;
-    for (const auto& name : strategies) list += (list.empty() ? "" : ", ") + name;
-    invalid("unknown DE strategy '" + de.strategy + "' (valid strategies: " + list + ")");
-  }
+  validate_de_parameters(de.population, de.generations, de.stall, de.F, de.CR, de.strategy);
   if (job.threads < 0) invalid("threads must be >= 0 (0 = all cores), got " + std::to_string(job.threads));
   if (job.path_every < 0) invalid("path_every must be >= 0, got " + std::to_string(job.path_every));
 }

@@ -51,15 +51,7 @@ SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks)
   MethodOutcome outcome;
   switch (job.method) {
     case Method::fmm:
-      outcome = {fmm_path, fmm_energy, 0, 1, "converged", {}};
-      if (hooks.on_progress) {
-        Progress progress;
-        progress.best_energy = progress.mean_energy = fmm_energy;
-        progress.evaluations = 1;
-        progress.elapsed_seconds = seconds_since(start);
-        progress.best_path = job.path_every > 0 ? &outcome.path : nullptr;
-        hooks.on_progress(progress);
-      }
+      outcome = run_fmm_method(ctx);
       break;
     case Method::de:
       outcome = run_de_method(ctx);

@@ -144,9 +144,15 @@ struct DeResult {
 /// Names accepted as DeSettings::strategy: {"rand1bin", "shade"}.
 const std::vector<std::string>& de_strategy_names();
 
-/// Checks settings against SPEC §2; throws Error(invalid_argument) naming the problem
-/// (population < 4, generations < 1, stall < 0, F or CR out of range, unknown strategy
-/// with the list of valid names, seed point of the wrong size).
+/// The one check of DE's user-facing parameters (SPEC §2), shared by validate_de_settings
+/// and depath::validate_job: throws Error(invalid_argument) naming the parameter and its
+/// value (population < 4, generations < 1, stall < 0, F outside (0, 2], CR outside [0, 1],
+/// unknown strategy with the list of valid names).
+void validate_de_parameters(int population, int generations, int stall, double F, double CR,
+                            const std::string& strategy);
+
+/// validate_de_parameters, plus the settings only the optimizer has (dimension, seed
+/// point size, seed fraction, restart parameters).
 void validate_de_settings(const DeSettings& settings, int dimension);
 
 /// Runs DE. Throws what validate_de_settings throws, and rethrows exceptions of

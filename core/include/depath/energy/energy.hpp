@@ -42,6 +42,9 @@ class Energy {
   /// Sum of segment energies plus the smoothness penalty.
   double evaluate(const SurfacePath& path) const;
 
+  /// Sum of segment energies alone (what the energy-specific metrics normalise).
+  double segment_sum(const SurfacePath& path) const;
+
   /// The smoothness penalty weight lambda (>= 0).
   double smoothness() const { return smoothness_; }
 

@@ -27,6 +27,10 @@ FaceFrame face_frame(const Mesh& mesh, int f);
 /// Requires scalar.size() == mesh.num_vertices().
 std::vector<Vec3> face_gradients(const Mesh& mesh, const std::vector<double>& scalar);
 
+/// Throws Error(invalid_argument) unless up_axis is 0 (x), 1 (y) or 2 (z): the one check of
+/// an up axis (tangent fields, generators).
+void check_up_axis(int up_axis);
+
 /// Gradient of one coordinate (height; up_axis 0 = x, 1 = y, 2 = z) per face.
 std::vector<Vec3> height_gradients(const Mesh& mesh, int up_axis);
 

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "depath/solve/job.hpp"
+#include "depath/solve/progress.hpp"
 #include "depath/mesh/mesh.hpp"
 #include "depath/mesh/surface_path.hpp"
 #include "depath/energy/energy.hpp"
@@ -14,18 +15,6 @@
 namespace depath {
 
 class ThreadPool;
-
-/// Per-generation report (methods without generations report once, as generation 0).
-struct Progress {
-  int generation = 0;            ///< 1-based generation just finished
-  int max_generations = 0;
-  double best_energy = 0.0;
-  double mean_energy = 0.0;
-  int64_t evaluations = 0;       ///< energy evaluations so far
-  int improvements = 0;          ///< agents replaced by a better trial in this generation
-  double elapsed_seconds = 0.0;
-  const SurfacePath* best_path = nullptr;  ///< set every `path_every` generations, else null
-};
 
 /// Final result of a job.
 struct SolveResult {

@@ -174,19 +174,14 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   if (ctx.hooks.is_cancelled) hooks.is_cancelled = ctx.hooks.is_cancelled;
   if (ctx.hooks.on_progress) {
     hooks.on_generation = [&](const DeGenerationReport& report) {
-      Progress progress;
-      progress.generation = report.generation;
-      progress.max_generations = report.max_generations;
-      progress.best_energy = report.best_energy;
-      progress.mean_energy = report.mean_energy;
-      progress.evaluations = report.evaluations;
-      progress.improvements = report.improvements;
-      progress.elapsed_seconds =
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - ctx.start).count();
-      if (job.path_every > 0 && report.generation % job.path_every == 0 && !best_path.empty()) {
-        progress.best_path = &best_path;
-      }
-      ctx.hooks.on_progress(progress);
+      Progress figures;
+      figures.generation = report.generation;
+      figures.max_generations = report.max_generations;
+      figures.best_energy = report.best_energy;
+      figures.mean_energy = report.mean_energy;
+      figures.evaluations = report.evaluations;
+      figures.improvements = report.improvements;
+      report_progress(ctx, figures, best_path.empty() ? nullptr : &best_path);
     };
   }
 

@@ -17,19 +17,14 @@ MethodOutcome run_descent_method(const MethodContext& ctx) {
   options.on_sweep = [&](const RefineSweep& sweep) {
     const bool improved = sweep.energy < previous;
     previous = sweep.energy;
-    if (!ctx.hooks.on_progress) return;
-    Progress progress;
-    progress.generation = sweep.sweep;
-    progress.max_generations = options.max_sweeps;
-    progress.best_energy = sweep.energy;
-    progress.mean_energy = sweep.energy;
-    progress.evaluations = (sweep.evaluations + segments - 1) / segments;
-    progress.improvements = improved ? 1 : 0;
-    const int every = ctx.job.path_every;
-    progress.best_path = every > 0 && sweep.sweep % every == 0 ? sweep.path : nullptr;
-    progress.elapsed_seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - ctx.start).count();
-    ctx.hooks.on_progress(progress);
+    Progress figures;
+    figures.generation = sweep.sweep;
+    figures.max_generations = options.max_sweeps;
+    figures.best_energy = sweep.energy;
+    figures.mean_energy = sweep.energy;
+    figures.evaluations = (sweep.evaluations + segments - 1) / segments;
+    figures.improvements = improved ? 1 : 0;
+    report_progress(ctx, figures, sweep.path);
   };
   RefineReport report;
   MethodOutcome outcome;

@@ -41,6 +41,13 @@ struct MethodOutcome {
   std::vector<SurfacePath> refine_starts;
 };
 
+/// The one place a Progress is built: `figures` carries the method's generation figures;
+/// elapsed_seconds is set from ctx.start and best_path to `path` every job.path_every
+/// generations (generation 0 included). No-op without an on_progress hook.
+void report_progress(const MethodContext& ctx, Progress figures, const SurfacePath* path);
+
+/// The `fmm` baseline itself (core/src/solve/methods/fmm.cpp).
+MethodOutcome run_fmm_method(const MethodContext& ctx);
 /// DE-Path (core/src/solve/methods/de.cpp).
 MethodOutcome run_de_method(const MethodContext& ctx);
 /// Local descent from the fmm path (core/src/solve/methods/descent.cpp).

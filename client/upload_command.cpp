@@ -1,0 +1,53 @@
+// `depath upload MESH`: sends a mesh to depathd (every replica of a multi-replica target)
+// unless it already has it; prints the mesh id.
+#include "commands.hpp"
+#include "remote_support.hpp"
+
+#include <cstdio>
+#include <iostream>
+#include <optional>
+#include <vector>
+
+namespace depath::cli {
+
+void add_upload_command(CLI::App& app) {
+  struct Opts {
+    RemoteOptions remote;
+    std::string mesh;
+    bool force = false;
+  };
+  auto o = std::make_shared<Opts>();
+  CLI::App* cmd = app.add_subcommand("upload", "Upload a mesh to the server (skipped if it has it); prints its id");
+  cmd->add_option("MESH", o->mesh, "Mesh file (.obj, .off, .ply, .stl)")->required();
+  cmd->add_flag("--force", o->force, "Send the bytes even if the server has the mesh");
+  cmd->add_flag("--json", o->remote.json, "Print the mesh info as JSON");
+  add_remote_options(*cmd, o->remote);
+  cmd->callback([o] {
+    // A multi-replica target (dns:, ipv4:a,b): every replica gets the mesh, so a later
+    // `submit MESH_ID` works wherever it lands.
+    const std::vector<RemoteOptions> replicas = replica_options(o->remote);
+    std::optional<v1::MeshInfo> first;
+    for (const auto& replica : replicas) {
+      RemoteClient client(replica);
+      bool uploaded = true;
+      const v1::MeshInfo info = o->force ? client.upload(o->mesh) : client.ensure_mesh(o->mesh, &uploaded);
+      if (!first) first = info;
+      if (o->remote.json) continue;
+      const std::string where = replicas.size() > 1 ? " (" + replica.server + ")" : "";
+      std::fprintf(stderr, "%s %s%s: %d vertices, %d faces, %d boundary edges, %d components\n",
+                   uploaded && !info.already_present() ? "uploaded" : "already on the server:", o->mesh.c_str(),
+                   where.c_str(), info.num_vertices(), info.num_faces(), info.num_boundary_edges(),
+                   info.num_components());
+      if (&replica == &replicas.front()) {
+        for (const auto& w : info.warnings()) std::fprintf(stderr, "  warning: %s\n", w.c_str());
+      }
+    }
+    if (o->remote.json) {
+      std::cout << to_json_line(*first) << '\n';
+      return;
+    }
+    std::cout << first->id() << '\n';
+  });
+}
+
+}  // namespace depath::cli

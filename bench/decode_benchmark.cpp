@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Time per decode (fast marching + back-trace + energy) on each shared mesh.
 //
 //   build/bench/decode_benchmark [--benchmark_filter=bimba]

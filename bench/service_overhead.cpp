@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // bench/service_overhead: what the network service costs over the embedded engine.
 //
 // Prints: the same job via `depath run` (through depathd) vs `depath solve` (in-process);

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Table 1 of the DE-Path paper, re-run: for each experiment (application, mesh, vertex
 // count, agents, iterations) our wall time for the whole `de` solve next to the paper's,
 // their ratio, and the quality against the `fmm` baseline; then the 1 -> 2 thread scaling

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath cancel JOB`: cancels a job (a running one stops promptly).
 #include "commands.hpp"
 #include "depath/wire/job.hpp"

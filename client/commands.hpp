@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Subcommands of the `depath` command line, one file each (client/<name>_command.cpp); each
 // add_*_command registers its subcommand on the app.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath generate grid|peaks|cone`: writes the paper's test surfaces (SPEC §4) to OBJ, OFF
 // or PLY, optionally with a per-vertex field file for the vector_field experiments.
 #include "commands.hpp"

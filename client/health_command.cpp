@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath health`: the standard gRPC health check (of every replica); exit 0 when SERVING.
 #include "commands.hpp"
 #include "grpc/health/v1/health.grpc.pb.h"

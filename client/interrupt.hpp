@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Ctrl-C during a job, for `depath solve` and the network subcommands: while an
 // InterruptGuard lives, SIGINT only sets `g_interrupted`; the local solve polls it (and keeps
 // the best path so far), RemoteClient::watch polls it (and asks the server to cancel).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "job_options.hpp"
 
 #include "depath/util/error.hpp"

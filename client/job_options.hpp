@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The job flags of SPEC §4, shared by `solve`, `submit` and `run` so they mean the same.
 #pragma once
 

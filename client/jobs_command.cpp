@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath jobs`: lists the jobs of the server (of every replica, merged).
 #include "commands.hpp"
 #include "depath/wire/job.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath`: the command-line client and embedded engine.
 #include "commands.hpp"
 #include "depath/util/error.hpp"

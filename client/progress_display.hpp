@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Showing a job's progress: a live bar on a terminal, JSON lines with --json, and
 // occasional plain lines otherwise (logs, pipes).
 #pragma once

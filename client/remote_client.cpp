@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "remote_client.hpp"
 
 #include "depath/wire/wire.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "remote_support.hpp"
 
 #include "depath/util/error.hpp"

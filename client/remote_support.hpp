@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Shared by the network subcommands (client/*_command.cpp that talk to depathd): Ctrl-C
 // handling, request ids, showing job events, fetching and delivering results, submitting.
 #pragma once

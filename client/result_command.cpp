@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath result JOB`: fetches a finished job's result; writes or prints it.
 #include "commands.hpp"
 #include "depath/io/mesh_reader.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "result_output.hpp"
 
 #include "depath/io/result_writer.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Output of a finished job, shared by `depath solve` and the network subcommands: the result
 // written to --out (format by extension) and shown as one JSON line (--json) or as a summary.
 #pragma once

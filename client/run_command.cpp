@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath run MESH ...`: upload if needed, submit, watch, fetch and write the result, on one
 // replica.
 #include "commands.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath solve`: runs a job with the embedded engine (no server).
 #include "commands.hpp"
 #include "depath/util/error.hpp"

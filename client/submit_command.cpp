@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath submit MESH ...`: submits a job (uploading the mesh if needed); prints the job id.
 #include "commands.hpp"
 #include "remote_support.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath upload MESH`: sends a mesh to depathd (every replica of a multi-replica target)
 // unless it already has it; prints the mesh id.
 #include "commands.hpp"

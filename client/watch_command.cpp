@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // `depath watch JOB`: follows a job's events until it ends; writes the result with --out.
 #include "commands.hpp"
 #include "depath/io/mesh_reader.hpp"

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Prints the Debian packages that provide the shared libraries the given binaries load,
 # one per line. The Dockerfile's runtime stage installs exactly these, so it never carries
 # a hand-kept list that drifts from what the build actually links (a missing library would

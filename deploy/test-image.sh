@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Builds the depathd image and smoke-tests it without a Docker engine or a registry.
 #
 #   deploy/test-image.sh              # base images + build + run + SIGTERM check

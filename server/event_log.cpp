@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "event_log.hpp"
 
 #include "depath/wire/wire.hpp"

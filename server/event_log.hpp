@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A job's numbered events, and the hub that tells watchers about new ones.
 //
 // The log keeps every state change and the result, and only the latest progress event

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Tells ThreadSanitizer how gRPC orders a reactor's operations and reactions.
 //
 // gRPC sequences each call with its own synchronisation (absl::Mutex, atomics in libgrpc).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "job_manager.hpp"
 
 #include "depath/util/error.hpp"

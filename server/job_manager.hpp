@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The job queue: validates and queues jobs, runs up to --max-running-jobs of them at once
 // (one driver thread each, evaluation work on the server's shared ThreadPool), publishes
 // their events, cancels them, forgets finished ones after --job-ttl-seconds.

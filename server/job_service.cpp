@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "job_service.hpp"
 
 #include "depath/wire/wire.hpp"

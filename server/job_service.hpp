@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // depath.v1.JobService on gRPC's callback API: watchers are reactors, not threads.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Structured logs of the server: one line per event, as text or JSON (--log-format).
 #pragma once
 

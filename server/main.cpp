@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // depathd: the depath gRPC server (SPEC §3).
 #include "depath/util/error.hpp"
 #include "server.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "mesh_service.hpp"
 
 #include "depath/util/error.hpp"

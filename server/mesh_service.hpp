@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // depath.v1.MeshService on gRPC's callback API.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "mesh_store.hpp"
 
 #include "depath/util/error.hpp"

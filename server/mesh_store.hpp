@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Parsed meshes by id (SHA-256 of their bytes): an LRU cache with a byte budget that never
 // evicts a mesh a queued or running job holds, optionally backed by a directory on disk.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Limits and settings of a depathd server (each is a command-line flag of depathd).
 #pragma once
 

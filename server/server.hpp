@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // depathd's server as a library: tests start it in-process on 127.0.0.1:0.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What the gRPC service implementations share: the stores, the limits, and the checks that
 // every call goes through (authentication, shutting down).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Errors of the service layer that have no core ErrorCode (ALREADY_EXISTS, UNAUTHENTICATED),
 // and the one place that turns any exception into a gRPC status.
 #pragma once

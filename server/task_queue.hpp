@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // A few threads for blocking work that must not run on gRPC's callback threads (parsing
 // uploaded meshes). Tasks still queued at destruction run before the threads exit.
 #pragma once

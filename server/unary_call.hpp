@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Runs a unary RPC body on the callback API: admission/auth, exceptions -> status, Finish.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Meshes with known geodesics for the tests: icospheres and open cylinders.
 #pragma once
 

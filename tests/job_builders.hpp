@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Jobs the tests (and bench/table1) build again and again.
 #pragma once
 

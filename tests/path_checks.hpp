@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Structural checks of a surface path, shared by the tests.
 #pragma once
 

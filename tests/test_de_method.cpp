@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Method `de` end to end through solve(): reproducibility across thread counts,
 // convergence, never worse than `fmm` when seeded, progress reports, stop rules.
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // DE-Path end to end against the reference tables: `de --refine` (seeded, adaptive) on the
 // small shared meshes. Exact geodesics: within 0.1% (the paper's DE was 1.2-1.7% long).
 // Bump densities: within 1% of the Steiner-graph cost (an upper bound on the optimum) and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The `descent` method through solve(): local refinement started from the fmm path.
 #include "depath/solve/job.hpp"
 #include "depath/io/mesh_reader.hpp"

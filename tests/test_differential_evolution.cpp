@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The generic DE optimizer on analytic functions: operators, stop rules, reproducibility.
 #include "depath/de/differential_evolution.hpp"
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Unit tests of the vector_field and constant_slope energies against analytic values.
 #include "depath/energy/energy.hpp"
 #include "depath/util/error.hpp"

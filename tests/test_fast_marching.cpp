@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Fast marching and back-tracing on surfaces with analytic geodesics.
 #include "analytic_meshes.hpp"
 #include "depath/energy/energy.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The `fmm` method against exact polyhedral geodesics and weighted Steiner-graph references.
 #include "depath/io/mesh_reader.hpp"
 #include "depath/io/vertex_data.hpp"

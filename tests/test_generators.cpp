@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Surface generators (grids, MATLAB peaks, cones), the mesh writer, and the tangent-field
 // generators, against analytic values.
 #include "depath/util/error.hpp"

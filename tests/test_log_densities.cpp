@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Densities from DE's log-densities: the vectorised exp against std::exp, its clamping,
 // and fast marching on log-densities against fast marching on the densities themselves.
 #include "../core/src/decode/log_densities.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Mesh loading (all formats) and the input rules of SPEC §2.
 #include "depath/util/error.hpp"
 #include "depath/io/mesh_reader.hpp"

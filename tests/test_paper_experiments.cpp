@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The paper's vector-field and constant-slope experiments (DE-Path, Fig. 7 and the terrain
 // curves), small enough for the test suite: a 41 x 41 grid and a 961-vertex cone.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Local path refinement on hand-built meshes whose shortest paths are known exactly,
 // plus the guarantees (never worse, valid path, end points kept) for every energy.
 #include "depath/energy/energy.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Refinement of `fmm` paths (the `descent` method) on the shared meshes, measured against
 // exact geodesic distances and the weighted Steiner-graph upper bounds.
 #include "depath/energy/energy.hpp"

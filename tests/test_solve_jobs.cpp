@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // solve(): the job rules of SPEC §2 (each error names the problem) and the result writers.
 #include "depath/util/error.hpp"
 #include "depath/io/mesh_reader.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ThreadPool: every index once, distinct slots per batch, many callers, exceptions.
 #include "depath/util/thread_pool.hpp"
 

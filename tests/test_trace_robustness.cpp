@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The back-trace always terminates with a valid path: every shared mesh (slivers,
 // boundaries, stray components), DE-like random densities, degenerate faces.
 #include "depath/energy/energy.hpp"

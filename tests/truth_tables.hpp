@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Readers for the reference tables in ../shared/data/truth/ (one CSV reader for every truth
 // test), and the shared meshes they name, loaded once per test binary.
 #pragma once

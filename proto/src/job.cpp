@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/wire/job.hpp"
 
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/wire/mesh.hpp"
 
 #include "depath/util/error.hpp"

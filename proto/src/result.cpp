@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/wire/result.hpp"
 
 #include "depath/io/result_writer.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/wire/status.hpp"
 
 namespace depath::wire {

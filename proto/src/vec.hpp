@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal to the wire layer: Vec3 <-> depath.v1.Vec3.
 #pragma once
 

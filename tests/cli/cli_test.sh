@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The `depath` command line as a user drives it: outputs, exit codes and error messages.
 #   cli_test.sh DEPATH_BINARY TEST_DATA_DIR
 set -uo pipefail

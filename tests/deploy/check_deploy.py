@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Static checks of the container and deployment files (Dockerfile, deploy/).
 
     check_deploy.py ROOT yamllint|manifests|kustomize|compose|dockerfile|flags [DEPATHD]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The real binaries: depathd started as a process, driven by the `depath` client.
 #include "service_test_support.hpp"
 #include "time_scale.hpp"

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """depathd driven from Python as a third-party client would: stubs generated at test time
 from proto/ with protoc --python_out and grpc_python_plugin, a real depathd process."""
 import argparse

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The service through real gRPC on loopback: an in-process server (depath_service) on
 // 127.0.0.1:0 and generated stubs, no mocks.
 #include "depath/io/mesh_reader.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Helpers for the service tests: an in-process depathd on 127.0.0.1:0 reached through real
 // gRPC, small generated meshes, and blocking helpers for the RPCs.
 #pragma once

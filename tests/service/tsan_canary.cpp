@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // ThreadSanitizer canary, built and run only in the TSan build (DEPATH_SANITIZE=thread).
 //
 // scripts/tsan.supp hides the reports that come from gRPC's own, uninstrumented

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Differential evolution driver: population, parallel evaluation, greedy selection, stop
 // rules. Trial generation and parameter adaptation live in the strategies (src/de/).
 #include "depath/de/differential_evolution.hpp"

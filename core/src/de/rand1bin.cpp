@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // DE/rand/1/bin, the paper's strategy: v = x_r1 + F (x_r2 - x_r3), r1, r2, r3 distinct and
 // != i, then binomial crossover with rate CR against x_i. Fixed F and CR, no state.
 #include "de/strategy.hpp"

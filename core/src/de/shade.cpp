@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // SHADE (Tanabe & Fukunaga 2013; JADE's current-to-pbest/1 with an archive, plus
 // success-history adaptation of F and CR):
 //   v = x_i + F_i (x_pbest - x_i) + F_i (x_r1 - x~_r2)

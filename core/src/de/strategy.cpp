@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The strategy registry and the sampling helpers the strategies share.
 #include "de/strategy.hpp"
 

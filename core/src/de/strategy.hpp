@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal: the pieces a DE strategy is made of (trial generation and its adaptation).
 //
 // A strategy turns the current population into one trial per agent. The optimizer

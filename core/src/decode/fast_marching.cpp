@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/decode/fast_marching.hpp"
 
 #include "decode/log_densities.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "decode/log_densities.hpp"
 
 #include <bit>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal: densities from log-densities, for decoding DE agents.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/decode/path_decoder.hpp"
 
 #include "depath/decode/trace.hpp"

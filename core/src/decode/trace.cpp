@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/decode/trace.hpp"
 
 #include <Eigen/Core>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal to the energies: the angle between two lines, shared by vector_field and
 // constant_slope (their integrands).
 #pragma once

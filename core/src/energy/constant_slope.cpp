@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "energy/constant_slope.hpp"
 
 #include "energy/angles.hpp"

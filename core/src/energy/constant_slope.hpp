@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The `constant_slope` energy (SPEC §1): paths that climb or descend a terrain at a
 // constant slope k = dz/ds.
 #pragma once

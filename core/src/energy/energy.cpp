@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/energy/energy.hpp"
 
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "energy/geodesic.hpp"
 
 namespace depath {

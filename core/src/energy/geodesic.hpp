@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Geodesic energy: the integral of a per-vertex density along the path.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The energy factory: validates an EnergySpec against a mesh and builds the energy.
 #include "depath/energy/energy.hpp"
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "energy/vector_field.hpp"
 
 #include "energy/angles.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The `vector_field` energy (SPEC §1): integral along the path of the acute angle between
 // the path's line and the field's line.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/generators/surfaces.hpp"
 
 #include "depath/mesh/tangent_fields.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "io/header_check.hpp"
 
 #include "depath/util/error.hpp"

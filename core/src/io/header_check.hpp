@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal: rejects mesh files whose header declares more elements than the bytes hold.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/io/mesh_reader.hpp"
 
 #include "depath/util/error.hpp"

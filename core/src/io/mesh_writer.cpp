@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/io/mesh_writer.hpp"
 
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/io/result_writer.hpp"
 
 #include "depath/mesh/surface_path.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/io/vertex_data.hpp"
 
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/mesh/mesh.hpp"
 
 #include "depath/util/error.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/mesh/surface_path.hpp"
 
 namespace depath {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/mesh/tangent_fields.hpp"
 
 #include "depath/util/error.hpp"

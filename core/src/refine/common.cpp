@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "refine/common.hpp"
 
 #include <algorithm>

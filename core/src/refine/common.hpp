@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal helpers of the path refinement (refine.cpp, points.cpp,
 // reroute.cpp): point/face predicates, path clean-up, and an energy evaluator
 // that counts work and evaluates windows of a path.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "refine/descent.hpp"
 
 #include "refine/points.hpp"

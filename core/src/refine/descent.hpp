@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The local descent of the refinement: sweeps of the local moves until the energy stops
 // dropping. refine_path runs it on the whole path, the vertex hops on windows of it.
 #pragma once

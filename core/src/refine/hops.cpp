@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "refine/hops.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Refinement step 3: basin hops over the vertices beside the path.
 #pragma once
 

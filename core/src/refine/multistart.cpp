@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // refine_best_of: multi-start refinement (see depath/refine/refine.hpp).
 #include "depath/refine/refine.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "refine/points.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Refinement step 1: optimise where the path's points sit on their edges, with the
 // edge sequence fixed.
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/refine/refine.hpp"
 
 #include "depath/util/error.hpp"

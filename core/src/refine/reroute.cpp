@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "refine/reroute.hpp"
 
 #include "refine/points.hpp"

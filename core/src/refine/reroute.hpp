@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Refinement step 2: changes of the path's edge sequence (dropping redundant points,
 // re-routing around vertices).
 #pragma once

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/solve/job.hpp"
 
 #include "depath/de/differential_evolution.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/solve/progress.hpp"
 
 #include "solve/methods/methods.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/solve/solve.hpp"
 
 #include "depath/util/error.hpp"

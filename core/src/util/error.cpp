@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/util/error.hpp"
 
 namespace depath {

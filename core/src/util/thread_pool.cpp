@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 #include "depath/util/thread_pool.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Differential evolution (DE) over real vectors, run on a ThreadPool, reproducible per seed.
 //
 // Generic: knows nothing about meshes. DE-Path (core/src/solve/methods/de.cpp) plugs in
@@ -24,6 +25,12 @@
 //     of at most N/2 vectors, restarts one vector (the best, kept aside). Nothing of size
 //     n is allocated per thread or per evaluation.
 //   - The best energy never rises; best_energy is the lowest energy ever evaluated.
+//
+// References: R. Storn, K. Price, "Differential evolution — a simple and efficient
+// heuristic for global optimization over continuous spaces", J. Global Optimization 11
+// (1997) (`rand1bin`); R. Tanabe, A. Fukunaga, "Success-history based parameter adaptation
+// for differential evolution", IEEE CEC 2013 (`shade`). DE-Path (Ye, Liu, Zheng, Hormann,
+// He) runs it over per-vertex log-densities.
 #pragma once
 
 #include <cstdint>

@@ -1,4 +1,14 @@
+// SPDX-License-Identifier: MIT
 // Fast marching for |grad u| = rho on a triangle mesh, with a reusable workspace.
+//
+// Inputs: a mesh (through its density-independent stencils), one positive density per
+// vertex (or its logarithm), a source vertex and optionally a vertex to stop at.
+// Outputs: u, the weighted geodesic distance from the source, at every vertex reached.
+// Guarantees: first-order upwind updates, causal on obtuse triangles by unfolding; values
+// finite exactly for the vertices reached; no allocation per run once the workspace has
+// grown. Cost: O(V log V) per run (4-ary heap).
+// Reference: R. Kimmel, J. A. Sethian, "Computing geodesic paths on manifolds", PNAS 95
+// (1998) — fast marching on triangulated domains, obtuse angles by unfolding.
 #pragma once
 
 #include "depath/mesh/mesh.hpp"

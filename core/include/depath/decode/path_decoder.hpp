@@ -1,4 +1,12 @@
+// SPDX-License-Identifier: MIT
 // Decoding a density field into a path: fast marching from the source, then back-tracing.
+//
+// Inputs: the mesh's stencils, one density (or log-density) per vertex, source and target.
+// Outputs: the path source -> target on the surface (points on vertices or edges), or
+// false when the target is not reached. Guarantees: deterministic for given inputs; no
+// allocation per decode once its buffers have grown; one decoder per thread.
+// Reference: the decoding step of DE-Path (Ye, Liu, Zheng, Hormann, He): a density field
+// is an individual, its path the fast-marching geodesic traced back from the target.
 #pragma once
 
 #include "depath/decode/fast_marching.hpp"

@@ -1,4 +1,9 @@
+// SPDX-License-Identifier: MIT
 // Back-tracing: steepest descent of a fast-marching field from the target to the source.
+//
+// Inputs: a finished (or early-stopped) fast march and the two end vertices. Outputs: the
+// path from source to target. Guarantees: always terminates, and reaches the source when
+// the target was reached (see trace_steepest_descent).
 #pragma once
 
 #include "depath/decode/fast_marching.hpp"

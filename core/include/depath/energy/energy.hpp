@@ -1,4 +1,13 @@
+// SPDX-License-Identifier: MIT
 // The energy interface: what a path costs. One implementation per file in core/src/energy/.
+//
+// Inputs: a mesh and an EnergySpec (geodesic with per-vertex density, vector field,
+// constant slope; optional smoothness). Outputs: the energy of any surface path, its
+// per-segment terms, the density the `fmm` baseline decodes, energy-specific metrics.
+// Guarantees: implementations are immutable and thread-safe; make_energy rejects a bad
+// spec with Error(invalid_argument) naming the field.
+// Reference: the energies of DE-Path (Ye, Liu, Zheng, Hormann, He): weighted geodesics,
+// paths along a vector field, constant-slope curves on terrain.
 #pragma once
 
 #include "depath/mesh/mesh.hpp"

@@ -1,5 +1,10 @@
+// SPDX-License-Identifier: MIT
 // Generators for the paper's test surfaces (SPEC §4): regular n x n grids, optionally
 // lifted to a height field (flat, MATLAB `peaks`), and cones.
+//
+// Inputs: sizes and shape options. Outputs: a Mesh with documented vertex ids (so tests and
+// benchmarks can name vertices). Guarantees: deterministic; bad options throw
+// Error(invalid_argument). Its own target (depath_generators): the solver never needs it.
 #pragma once
 
 #include "depath/mesh/mesh.hpp"

@@ -1,4 +1,10 @@
+// SPDX-License-Identifier: MIT
 // Reading meshes from files and from in-memory bytes (OBJ, OFF, PLY ascii/binary, STL).
+//
+// Inputs: a file name or bytes with their format. Outputs: a Mesh, polygons triangulated,
+// vertex ids in file order. Guarantees: hostile input (truncated or lying headers, NaNs,
+// no faces) gets Error(invalid_argument) naming the file and the problem, never a hang or
+// unbounded memory: headers are checked against the bytes before OpenMesh reads them.
 #pragma once
 
 #include "depath/mesh/mesh.hpp"

@@ -1,4 +1,8 @@
+// SPDX-License-Identifier: MIT
 // Writing triangle meshes to OBJ, OFF or PLY (used by `depath generate`).
+//
+// Inputs: a mesh and a file name. Outputs: the file. Guarantees: vertex and face order kept
+// (ids in the file equal the mesh's); coordinates read back exactly.
 #pragma once
 
 #include "depath/mesh/mesh.hpp"

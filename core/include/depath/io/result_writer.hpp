@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Writing results: JSON (SPEC §4), OBJ/PLY polylines and CSV, chosen by file extension.
 //
 // Inputs: a SolveResult (its path's crossings and figures) and the 3D position of each of the

@@ -1,4 +1,8 @@
+// SPDX-License-Identifier: MIT
 // Reading per-vertex data files: one scalar, or one "x y z" vector, per line.
+//
+// Inputs: a file name. Outputs: the values in file order (the caller checks the count
+// against the mesh). Guarantees: errors name the file and the line.
 #pragma once
 
 #include "depath/mesh/mesh.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The triangle mesh that every algorithm of the core works on.
 //
 // A plain indexed triangle mesh plus the connectivity the decode loop needs, kept in

@@ -1,4 +1,9 @@
+// SPDX-License-Identifier: MIT
 // A path on a mesh surface: a polyline whose points lie on vertices or on edges.
+//
+// What decode produces, energy evaluates, refine improves and io writes, from the source
+// vertex to the target vertex. Guarantee kept by every producer: the two ends of segment i
+// lie in face segment_faces[i], so per-face quantities are well defined.
 #pragma once
 
 #include "depath/mesh/mesh.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Tangent vector fields on a mesh: gradients of per-vertex scalars, rotations in the
 // tangent plane, and per-vertex averages, so that generated fields feed the same
 // per-vertex code path as fields read from a file (the vector_field energy).

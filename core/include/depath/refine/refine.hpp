@@ -1,5 +1,10 @@
+// SPDX-License-Identifier: MIT
 // Local refinement of a surface path: the energy-descent that `--refine` and the
 // `descent` method run.
+//
+// Inputs: an energy, one path (or several starts) between the same end points, options.
+// Outputs: a path of lower or equal energy and a report. Guarantees: never raises the
+// energy, keeps the end points, returns a valid surface path; cancellable between steps.
 #pragma once
 
 #include "depath/energy/energy.hpp"

@@ -1,4 +1,9 @@
+// SPDX-License-Identifier: MIT
 // A job: what to solve on a mesh, with which method and options. Shared by CLI and server.
+//
+// Inputs: the job's fields (from flags or from a depath.v1.JobSpec). Outputs:
+// validate_job's verdict. Guarantees: validate_job is the one check of a job against its
+// mesh; it throws Error(invalid_argument / failed_precondition) naming the field.
 #pragma once
 
 #include "depath/energy/energy.hpp"

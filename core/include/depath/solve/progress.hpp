@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // What a running job reports after each generation (or refinement sweep): the figures
 // `depath` shows as a bar or JSON lines and depathd streams as events.
 //

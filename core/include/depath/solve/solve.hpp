@@ -1,4 +1,12 @@
+// SPDX-License-Identifier: MIT
 // The one entry point that runs a job: used by `depath solve`, the server and the tests.
+//
+// Inputs: a mesh, a JobSpec and optional hooks (progress, cancellation, a shared pool).
+// Outputs: a SolveResult (path, energy, length, figures, metrics). Guarantees: validates
+// the job first; reproducible (same inputs and seed, same path, whatever the thread count);
+// a cancelled job returns the best path so far.
+// Reference: DE-Path (Ye, Liu, Zheng, Hormann, He) — differential evolution over per-vertex
+// density fields, each decoded into a path by fast marching and back-tracing.
 #pragma once
 
 #include "depath/solve/job.hpp"

@@ -1,4 +1,9 @@
+// SPDX-License-Identifier: MIT
 // Errors that the core reports to its callers (CLI, server, tests).
+//
+// One exception type with a code; the server maps each code to a gRPC status
+// (proto/include/depath/wire/status.hpp), the CLI to an exit status. Messages name the
+// problem (file, field, value) so that a user can fix it.
 #pragma once
 
 #include <stdexcept>

@@ -1,4 +1,9 @@
+// SPDX-License-Identifier: MIT
 // A fixed pool of worker threads that runs index-parallel loops for many callers at once.
+//
+// Inputs: a loop size and a function of (slot, index). Outputs: none; exceptions are
+// rethrown. Guarantees: fair between concurrent callers, no deadlock with 0 workers,
+// per-slot scratch space needs no locking (see ThreadPool).
 #pragma once
 
 #include <condition_variable>

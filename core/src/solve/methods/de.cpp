@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Method `de`: DE-Path. Differential evolution over per-vertex log-densities; an agent's
 // energy is the energy of the path its density decodes to (fast marching from the
 // source + back-trace from the target), +infinity when the target is not reached.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The `descent` method: local energy descent on the path, started from the `fmm` path
 // (the paper's gradient-descent comparison). One progress report per refinement sweep.
 #include "depath/refine/refine.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Method `fmm`: the classic fast-marching geodesic of the problem's own density, which
 // solve() has already decoded as every method's baseline. One report, as generation 0.
 #include "solve/methods/methods.hpp"

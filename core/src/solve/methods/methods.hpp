@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Internal: the methods that solve() dispatches to. Each lives in its own file here.
 #pragma once
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Jobs on the wire: depath.v1.JobSpec <-> the core's JobSpec, methods, job states.
 //
 // Inputs: messages from a peer (any enum value) or core values. Outputs: the other form.

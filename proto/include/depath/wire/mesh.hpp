@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Meshes on the wire: mesh ids (SHA-256 of the file's bytes) and depath.v1.MeshInfo.
 //
 // Guarantees: the id of a file is the lowercase hex SHA-256 of its bytes, computed the same

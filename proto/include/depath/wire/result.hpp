@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Paths, results and progress on the wire: depath.v1.Path / JobResult / Progress <-> the
 // core's SurfacePath / SolveResult / Progress, and writing a received result.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // Errors on the wire: the core's ErrorCode <-> gRPC status codes.
 //
 // Guarantees: every ErrorCode maps to one gRPC code (unknown ones to INTERNAL), so a client

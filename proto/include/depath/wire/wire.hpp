@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: MIT
 // The wire layer in one include: conversions between the core's types and the depath.v1
 // protobuf messages, shared by the server (depathd) and the network client (depath
 // upload/submit/run/...). One header per kind of message:

@@ -18,6 +18,10 @@ import pytest
 import depath
 
 REPO = Path(__file__).resolve().parents[3]
+# ctest installs the package with pip and names the target: the tests must use that copy.
+if os.environ.get("DEPATH_PYTHON_SITE"):
+    assert Path(depath.__file__).resolve().is_relative_to(Path(os.environ["DEPATH_PYTHON_SITE"]).resolve()), \
+        "testing %s instead of the installed package" % depath.__file__
 TIME_SCALE = float(os.environ.get("DEPATH_TEST_TIME_SCALE") or 1)
 KITTEN = REPO / "tests" / "data" / "kitten.off"
 
@@ -76,6 +80,7 @@ def server(tmp_path_factory):
     yield s
     rc = s.stop()
     assert rc == 0, "depathd exit status %s:\n%s" % (rc, s.log())
+    assert '"event":"job.finished"' in s.log(), "structured (json) job logs"
 
 
 @pytest.fixture

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from typing import Optional, Sequence, Union
+from typing import List, Optional, Sequence, Tuple, Union
 
 import grpc
 
@@ -40,7 +40,7 @@ TlsOption = Union[None, bool, TLS, grpc.ChannelCredentials]
 def make_channel(address: str, tls: TlsOption, interceptors: Sequence[object] = ()) -> grpc.Channel:
     """A channel to `address` (host:port or any gRPC target): insecure for tls None/False,
     TLS with the system roots for True, else as the TLS settings or credentials say."""
-    options = [
+    options: List[Tuple[str, Union[int, str]]] = [
         ("grpc.max_receive_message_length", -1),
         ("grpc.max_send_message_length", -1),
         ("grpc.keepalive_time_ms", 30000),

@@ -71,14 +71,14 @@ class Client:
         ((n, 3) floats, (m, 3) 0-based vertex ids; sent as OFF text). The bytes are sent
         only when the server lacks the mesh (or with force=True)."""
         if is_mesh_id(mesh):
-            return self.mesh_info(mesh).id  # type: ignore[arg-type]
+            return self.mesh_info(mesh).id
         source = mesh_bytes(mesh, name)
         return self._ensure(source, force=force).id
 
     def mesh_info(self, mesh: MeshLike) -> mesh_pb2.MeshInfo:
         """The server's MeshInfo (counts, bounding box, warnings) for a mesh id, file or arrays.
         Raises NotFound when the server does not have it."""
-        mesh_id = mesh if is_mesh_id(mesh) else mesh_bytes(mesh).id
+        mesh_id = str(mesh) if is_mesh_id(mesh) else mesh_bytes(mesh).id
         return self._call(self._meshes.GetMesh, mesh_pb2.GetMeshRequest(id=mesh_id), "looking up mesh " + mesh_id)
 
     def list_meshes(self) -> List[mesh_pb2.MeshInfo]:

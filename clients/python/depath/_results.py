@@ -165,18 +165,18 @@ def result_from_proto(job_id: str, r: job_pb2.JobResult) -> Result:
 
 def event_from_proto(e: job_pb2.JobEvent) -> Optional[JobEvent]:
     """The event, or None for a kind this client does not know (a newer server)."""
-    head = dict(job_id=e.job_id, sequence=e.sequence, time_unix=e.time_unix)
+    job_id, sequence, time_unix = e.job_id, e.sequence, e.time_unix
     kind = e.WhichOneof("kind")
     if kind == "progress":
         p = e.progress
-        return ProgressEvent(**head, generation=p.generation, max_generations=p.max_generations,
+        return ProgressEvent(job_id, sequence, time_unix, generation=p.generation, max_generations=p.max_generations,
                              best_energy=p.best_energy, mean_energy=p.mean_energy, evaluations=p.evaluations,
                              improvements=p.improvements, elapsed_seconds=p.elapsed_seconds,
                              best_path=path_from_proto(p.best_path) if p.HasField("best_path") else None)
     if kind == "state":
         s = e.state
-        return StateEvent(**head, state=STATE_NAMES.get(s.state, str(s.state)), code=code_from_number(s.error_code),
+        return StateEvent(job_id, sequence, time_unix, state=STATE_NAMES.get(s.state, str(s.state)), code=code_from_number(s.error_code),
                           message=s.message)
     if kind == "result":
-        return ResultEvent(**head, result=result_from_proto(e.job_id, e.result))
+        return ResultEvent(job_id, sequence, time_unix, result=result_from_proto(e.job_id, e.result))
     return None

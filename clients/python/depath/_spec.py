@@ -7,7 +7,7 @@ same way for every client.
 from __future__ import annotations
 
 import operator
-from typing import Optional
+from typing import Any, Dict, Optional
 
 import grpc
 import numpy as np
@@ -29,7 +29,7 @@ def _invalid(message: str) -> InvalidArgument:
     return InvalidArgument(grpc.StatusCode.INVALID_ARGUMENT, message, doing="building the job")
 
 
-def _choice(name: str, value: str, table: dict) -> int:
+def _choice(name: str, value: str, table: Dict[str, Any]) -> Any:
     key = str(value).lower()
     if key not in table:
         raise _invalid("%s must be one of %s, got %r" % (name, ", ".join(sorted(table)), value))

@@ -68,7 +68,8 @@ class Job:
         while True:
             remaining = None if deadline is None else deadline - time.monotonic()
             if remaining is not None and remaining <= 0:
-                raise DeadlineExceeded(grpc.StatusCode.DEADLINE_EXCEEDED, "no terminal state within %gs" % (timeout or 0),
+                raise DeadlineExceeded(grpc.StatusCode.DEADLINE_EXCEEDED,
+                                       "no terminal state within %gs" % (timeout or 0),
                                        doing="watching job " + self.id, job_id=self.id)
             stream = client._jobs.WatchJob(job_pb2.WatchJobRequest(job_id=self.id, after_sequence=cursor),
                                            metadata=client._metadata, timeout=remaining)

@@ -175,8 +175,8 @@ def event_from_proto(e: job_pb2.JobEvent) -> Optional[JobEvent]:
                              best_path=path_from_proto(p.best_path) if p.HasField("best_path") else None)
     if kind == "state":
         s = e.state
-        return StateEvent(job_id, sequence, time_unix, state=STATE_NAMES.get(s.state, str(s.state)), code=code_from_number(s.error_code),
-                          message=s.message)
+        return StateEvent(job_id, sequence, time_unix, state=STATE_NAMES.get(s.state, str(s.state)),
+                          code=code_from_number(s.error_code), message=s.message)
     if kind == "result":
         return ResultEvent(job_id, sequence, time_unix, result=result_from_proto(e.job_id, e.result))
     return None

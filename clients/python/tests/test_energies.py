@@ -47,7 +47,8 @@ CASES = [
 FLAGS = {"energy": "--energy", "method": "--method", "population": "--population", "generations": "--generations",
          "stall": "--stall", "seed": "--seed", "F": "--F", "CR": "--CR", "strategy": "--strategy",
          "smoothness": "--smoothness", "rotate": "--rotate", "slope": "--slope", "up": "--up"}
-SWITCHES = {"refine": "--refine", "seed_with_problem": "--seed-with-problem", "field_from_height": "--field-from-height"}
+SWITCHES = {"refine": "--refine", "seed_with_problem": "--seed-with-problem",
+            "field_from_height": "--field-from-height"}
 
 
 def cli_flags(options, extra, tmp_path):

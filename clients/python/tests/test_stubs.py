@@ -10,6 +10,7 @@ from google.protobuf import descriptor_pb2
 from conftest import REPO
 
 PACKAGE = Path(__file__).resolve().parents[1]
+PROTO_DIR = Path(os.environ.get("DEPATH_PROTO_DIR") or REPO / "proto")  # ctest passes the build's
 
 
 def tool(env, name):
@@ -22,8 +23,8 @@ def test_checked_in_stubs_are_generated_from_proto(tmp_path):
     spec = importlib.util.spec_from_file_location("generate_stubs", PACKAGE / "tools" / "generate_stubs.py")
     gen = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(gen)
-    gen.generate(str(tmp_path), tool("DEPATH_PROTOC", "protoc"), tool("DEPATH_GRPC_PYTHON_PLUGIN", "grpc_python_plugin"),
-                 proto_dir=str(REPO / "proto"))
+    gen.generate(str(tmp_path), tool("DEPATH_PROTOC", "protoc"),
+                 tool("DEPATH_GRPC_PYTHON_PLUGIN", "grpc_python_plugin"), proto_dir=str(PROTO_DIR))
     fresh = {p.name: p.read_bytes() for p in (tmp_path / "depath" / "v1").iterdir()}
     checked_in = {p.name: p.read_bytes() for p in (PACKAGE / "depath" / "v1").iterdir()
                   if p.is_file() and p.name != "__init__.py"}
@@ -48,7 +49,7 @@ def test_imported_stubs_describe_the_protos(tmp_path):
     from depath.v1 import job_pb2, mesh_pb2
 
     out = tmp_path / "set.pb"
-    subprocess.run([tool("DEPATH_PROTOC", "protoc"), "--proto_path=" + str(REPO / "proto"),
+    subprocess.run([tool("DEPATH_PROTOC", "protoc"), "--proto_path=" + str(PROTO_DIR),
                     "--descriptor_set_out=" + str(out), "depath/v1/mesh.proto", "depath/v1/job.proto"], check=True)
     files = {f.name: f for f in descriptor_pb2.FileDescriptorSet.FromString(out.read_bytes()).file}
     for module in (mesh_pb2, job_pb2):

@@ -7,7 +7,7 @@ from typing import Any, Iterable, Iterator, List, Optional, Sequence, Tuple
 import grpc
 
 from ._channel import TlsOption, make_channel
-from ._errors import from_rpc_error
+from ._errors import NotFound, from_rpc_error
 from ._job import Job
 from ._meshes import MeshBytes, MeshLike, is_mesh_id, mesh_bytes
 from ._progress import ProgressOption
@@ -90,11 +90,9 @@ class Client:
     def _ensure(self, source: MeshBytes, force: bool = False) -> mesh_pb2.MeshInfo:
         if not force:
             try:
-                return self._meshes.GetMesh(mesh_pb2.GetMeshRequest(id=source.id), metadata=self._metadata,
-                                            timeout=self.timeout, wait_for_ready=True)
-            except grpc.RpcError as e:
-                if e.code() != grpc.StatusCode.NOT_FOUND:
-                    raise from_rpc_error(e, "looking up mesh " + source.id) from None
+                return self.mesh_info(source.id)
+            except NotFound:
+                pass  # never uploaded, evicted or deleted: send it
         return self._send(source)
 
     def _send(self, source: MeshBytes) -> mesh_pb2.MeshInfo:

@@ -34,19 +34,23 @@ def binary(env, relative):
 
 
 class Server:
-    """A depathd process on 127.0.0.1 (a free port unless `port` is given)."""
+    """A depathd process on 127.0.0.1 (a free port unless `port` is given), its state in its own
+    data directory (WORKDIR/data unless `data_dir` is given: a restart on the same one)."""
 
-    def __init__(self, workdir, *flags, port=0):
+    def __init__(self, workdir, *flags, port=0, data_dir=None):
         self.workdir = Path(workdir)
         self.workdir.mkdir(parents=True, exist_ok=True)
+        self.data_dir = Path(data_dir) if data_dir else self.workdir / "data"
         port_file = self.workdir / "port"
         if port_file.exists():
             port_file.unlink()
         self.log_path = self.workdir / "depathd.log"
         self._log = open(self.log_path, "ab")
+        self.killed = False
         self.process = subprocess.Popen([binary("DEPATHD", "server/depathd"), "--listen", "127.0.0.1:%d" % port,
-                                         "--port-file", str(port_file), "--threads", "2", "--log-format", "json",
-                                         *flags], stdout=self._log, stderr=subprocess.STDOUT)
+                                         "--port-file", str(port_file), "--data-dir", str(self.data_dir),
+                                         "--threads", "2", "--log-format", "json", *flags],
+                                        stdout=self._log, stderr=subprocess.STDOUT)
         deadline = time.monotonic() + 30 * TIME_SCALE
         while not (port_file.exists() and port_file.read_text().strip()):
             if self.process.poll() is not None or time.monotonic() > deadline:
@@ -59,8 +63,17 @@ class Server:
     def log(self):
         return self.log_path.read_text(errors="replace")
 
+    def kill(self):
+        """SIGKILL (a crash); stop() then reports nothing."""
+        self.process.kill()
+        self.process.wait()
+        self.killed = True
+
     def stop(self):
-        """SIGTERM, then the exit status (0 = a graceful shutdown)."""
+        """SIGTERM, then the exit status (0 = a graceful shutdown; 0 too after kill())."""
+        if self.killed:
+            self._log.close()
+            return 0
         if self.process.poll() is None:
             self.process.send_signal(signal.SIGTERM)
             try:
@@ -88,8 +101,8 @@ def start_server(tmp_path):
     """Factory for servers with their own flags; each is stopped (and checked) at teardown."""
     started = []
 
-    def start(*flags, port=0):
-        s = Server(tmp_path / ("depathd%d" % len(started)), *flags, port=port)
+    def start(*flags, port=0, data_dir=None):
+        s = Server(tmp_path / ("depathd%d" % len(started)), *flags, port=port, data_dir=data_dir)
         started.append(s)
         return s
 

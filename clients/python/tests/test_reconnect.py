@@ -1,12 +1,15 @@
 """A watch survives a dropped connection: it reconnects and resumes after the last sequence it saw,
 missing no state change and no result. The connection runs through a TCP relay that the test cuts."""
+import json
 import socket
+import subprocess
 import threading
 
 import numpy as np
+import pytest
 
 import depath
-from conftest import TIME_SCALE, grid
+from conftest import KITTEN, TIME_SCALE, binary, grid
 
 V, F = grid(12, lambda x, y: 0.3 * np.sin(3 * x) * np.cos(2 * y))
 
@@ -94,3 +97,40 @@ def test_watch_resumes_after_the_connection_drops(client):
     assert set(must) <= set(seqs)
     results = [e.result for e in events if isinstance(e, depath.ResultEvent)]
     assert len(results) == 1 and results[0].stop_reason == "cancelled"
+
+
+def depathd_keeps_jobs():
+    """A depathd with a durable job store (SPEC §3) has --checkpoint-seconds."""
+    help_text = subprocess.run([binary("DEPATHD", "server/depathd"), "--help"], capture_output=True, text=True)
+    return "--checkpoint-seconds" in help_text.stdout + help_text.stderr
+
+
+@pytest.mark.skipif(not depathd_keeps_jobs(), reason="this depathd keeps no jobs across a restart yet")
+def test_watch_survives_a_server_crash_and_restart(start_server, cli, tmp_path):
+    """kill -9 mid-job, restart on the same port and data dir: the same watch goes on and ends with the
+    result of an uninterrupted run (SPEC §3: resumed from the checkpoint, bit-identical)."""
+    options = dict(population=16, generations=1000, strategy="shade", seed=5)
+    ref_path = tmp_path / "ref.json"
+    cli("solve", KITTEN, "-s", 0, "-t", 320, "--population", 16, "--generations", 1000, "--strategy", "shade",
+        "--seed", 5, "--threads", 2, "--out", ref_path)
+    ref = json.loads(ref_path.read_text())
+    first = start_server("--checkpoint-seconds", "1")
+    restarted = None
+    with depath.Client(first.address, timeout=30 * TIME_SCALE, reconnect_seconds=60 * TIME_SCALE) as c:
+        job = c.submit(KITTEN, 0, 320, **options)
+        events = []
+        for event in job.watch(timeout=900 * TIME_SCALE):
+            events.append(event)
+            # Past the first checkpoint (1 s), well before the end: crash and come back.
+            if (restarted is None and isinstance(event, depath.ProgressEvent) and event.elapsed_seconds >= 2.5
+                    and event.generation < 900):
+                first.kill()
+                restarted = start_server("--checkpoint-seconds", "1", port=first.port, data_dir=first.data_dir)
+    assert restarted is not None, "the job ended before the crash could happen"
+    seqs = [e.sequence for e in events]
+    assert seqs == sorted(set(seqs))
+    assert events[-1].state == "succeeded"
+    results = [e.result for e in events if isinstance(e, depath.ResultEvent)]
+    assert len(results) == 1
+    assert results[0].energy == ref["energy"]
+    np.testing.assert_array_equal(results[0].points, np.array(ref["points"]))

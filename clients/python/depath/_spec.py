@@ -36,6 +36,15 @@ def _choice(name: str, value: str, table: Dict[str, Any]) -> Any:
     return table[key]
 
 
+def _int(name: str, value: Any, bits: int = 32, signed: bool = True) -> int:
+    """An integer option that fits its protobuf field (else a message naming it, not protobuf's)."""
+    i = operator.index(value)
+    lo, hi = (-(1 << (bits - 1)), 1 << (bits - 1)) if signed else (0, 1 << bits)
+    if not lo <= i < hi:
+        raise _invalid("%s = %d is out of range [%d, %d]" % (name, i, lo, hi - 1))
+    return i
+
+
 def _density(values: ArrayLike) -> np.ndarray:
     a = np.asarray(values, dtype=np.float64)
     if a.ndim == 2 and a.shape[1] == 1:
@@ -82,20 +91,20 @@ def job_spec(mesh_id: str, source: int, target: int, *,
         e.field.extend(mesh_pb2.Vec3(x=x, y=y, z=z) for x, y, z in _field(field).tolist())
     de = job_pb2.DeOptions(seed_with_problem=bool(seed_with_problem))
     if population is not None:
-        de.population = operator.index(population)
+        de.population = _int("population", population)
     if generations is not None:
-        de.generations = operator.index(generations)
+        de.generations = _int("generations", generations)
     if stall is not None:
-        de.stall = operator.index(stall)
+        de.stall = _int("stall", stall)
     if F is not None:
         de.f = float(F)
     if CR is not None:
         de.cr = float(CR)
     if strategy is not None:
         de.strategy = str(strategy)
-    spec = job_pb2.JobSpec(mesh_id=mesh_id, source=operator.index(source), target=operator.index(target), energy=e,
+    spec = job_pb2.JobSpec(mesh_id=mesh_id, source=_int("source", source), target=_int("target", target), energy=e,
                            method=_choice("method", method, METHODS), refine=bool(refine), de=de,
-                           path_every=operator.index(path_every))
+                           path_every=_int("path_every", path_every))
     if seed is not None:
-        spec.seed = operator.index(seed)
+        spec.seed = _int("seed", seed, bits=64, signed=False)
     return spec

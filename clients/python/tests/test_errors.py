@@ -45,6 +45,8 @@ def test_unknown_mesh_and_job_ids(client):
 
 
 def test_bad_vertices(client):
+    with raises(depath.InvalidArgument, grpc.StatusCode.INVALID_ARGUMENT, "target"):
+        client.submit((V, F), 0, 2 ** 40)
     with raises(depath.InvalidArgument, grpc.StatusCode.INVALID_ARGUMENT, "36"):
         client.submit((V, F), 0, 36)
     with raises(depath.InvalidArgument, grpc.StatusCode.INVALID_ARGUMENT):
@@ -76,7 +78,8 @@ def test_bad_options(client):
 def test_bad_options_caught_before_sending(client):
     for options, word in [(dict(energy="geodesik"), "energy"), (dict(method="dijkstra"), "method"),
                           (dict(up="w"), "up"), (dict(density=np.ones((6, 6))), "density"),
-                          (dict(field=np.ones(36)), "field")]:
+                          (dict(field=np.ones(36)), "field"), (dict(seed=-1), "seed"),
+                          (dict(generations=2 ** 31), "generations")]:
         with raises(depath.InvalidArgument, grpc.StatusCode.INVALID_ARGUMENT, word):
             client.submit((V, F), 0, 35, **options)
 

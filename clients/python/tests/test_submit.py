@@ -1,4 +1,5 @@
 """Submitting: idempotent request ids, listing jobs."""
+import time
 import uuid
 
 import grpc
@@ -20,6 +21,15 @@ def test_request_id_makes_resubmission_idempotent(client):
     assert caught.value.code == grpc.StatusCode.ALREADY_EXISTS
     first.wait(timeout=60 * TIME_SCALE)
     assert first.info().client_request_id == key
+
+
+def test_server_logs_the_job_as_json(client, server):
+    job = client.submit((V, F), 0, 48, method="fmm")
+    job.wait(timeout=60 * TIME_SCALE)
+    deadline = time.monotonic() + 10 * TIME_SCALE
+    while not any('"event":"job.finished"' in line and job.id in line for line in server.log().splitlines()):
+        assert time.monotonic() < deadline, "no json job.finished line for %s" % job.id
+        time.sleep(0.05)
 
 
 def test_list_jobs_by_state_and_mesh(client):

@@ -25,20 +25,18 @@ class Client:
     when the server runs with --auth-token. tls: None/False for plain TCP, True for TLS with
     the system's roots, depath.TLS(ca=..., cert=..., key=...) for a private CA or mutual TLS.
     timeout: seconds for each unary call (connecting included). reconnect_seconds: how long a
-    watch keeps retrying without hearing from the server. cancel_wait_seconds: after Ctrl-C,
-    how long to wait for the cancelled job's best path. interceptors: gRPC client
+    watch keeps retrying without hearing from the server. interceptors: gRPC client
     interceptors (logging, tracing).
 
     Use as a context manager, or call close()."""
 
     def __init__(self, address: str, token: Optional[str] = None, tls: TlsOption = None, *,
-                 timeout: float = 30.0, reconnect_seconds: float = 60.0, cancel_wait_seconds: float = 30.0,
-                 interceptors: Sequence[Any] = ()):
+                 timeout: float = 30.0, reconnect_seconds: float = 60.0, interceptors: Sequence[Any] = ()):
         self.address = address
         self.timeout = timeout
         self.reconnect_seconds = reconnect_seconds
-        self.cancel_wait_seconds = cancel_wait_seconds
         self._metadata: Tuple[Tuple[str, str], ...] = (("authorization", "Bearer " + token),) if token else ()
+        self._tls = tls
         self._channel = make_channel(address, tls, interceptors)
         self._meshes = mesh_pb2_grpc.MeshServiceStub(self._channel)
         self._jobs = job_pb2_grpc.JobServiceStub(self._channel)
@@ -61,6 +59,18 @@ class Client:
             return method(request, metadata=self._metadata, timeout=timeout or self.timeout, wait_for_ready=True)
         except grpc.RpcError as e:
             raise from_rpc_error(e, doing) from None
+
+    def _cancel_on_new_channel(self, job_id: str) -> None:
+        """CancelJob over a channel of its own (best effort): for when a KeyboardInterrupt may
+        have left this client's channel unusable."""
+        channel = make_channel(self.address, self._tls)
+        try:
+            job_pb2_grpc.JobServiceStub(channel).CancelJob(job_pb2.CancelJobRequest(job_id=job_id),
+                                                           metadata=self._metadata, timeout=10)
+        except grpc.RpcError:
+            pass
+        finally:
+            channel.close()
 
     # ---- meshes ----------------------------------------------------------------------------
 

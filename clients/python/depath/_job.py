@@ -1,5 +1,5 @@
 """A job on the server: watch its events (resuming after a dropped connection), wait for its
-result, cancel it. Ctrl-C while waiting cancels the job on the server."""
+result, cancel it. Ctrl-C while waiting cancels the job on the server (see _interrupt)."""
 from __future__ import annotations
 
 import time
@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Iterator, Optional
 import grpc
 
 from ._errors import DeadlineExceeded, DepathError, Interrupted, JobCancelled, Unavailable, error_for, from_rpc_error
+from ._interrupt import CancelOnInterrupt
 from ._progress import ProgressOption, reporter
 from ._results import (STATE_NAMES, JobEvent, ProgressEvent, Result, ResultEvent, StateEvent, event_from_proto,
                        result_from_proto)
@@ -108,23 +109,30 @@ class Job:
         depath._progress: None, True for a text bar, a tqdm bar, or a callable).
 
         Raises the job's own error for a FAILED job (e.g. FailedPrecondition "no path"),
-        JobCancelled (with .result = best path so far) for a CANCELLED one, and on Ctrl-C
-        cancels the job on the server and raises depath.Interrupted (a KeyboardInterrupt)."""
+        JobCancelled (with .result = best path so far) for a CANCELLED one. Ctrl-C cancels the
+        job on the server, waits for its end and raises depath.Interrupted (a
+        KeyboardInterrupt) with the best path so far; a second Ctrl-C stops waiting at once."""
         show = reporter(progress)
         result: Optional[Result] = None
         terminal: Optional[StateEvent] = None
-        try:
-            for event in self.watch(timeout=timeout):
-                if isinstance(event, ProgressEvent):
-                    show(event)
-                elif isinstance(event, ResultEvent):
-                    result = event.result
-                elif event.terminal:
-                    terminal = event
-        except KeyboardInterrupt:
-            show.close()
-            raise Interrupted(self.id, self._cancel_after_interrupt()) from None
+        with CancelOnInterrupt(self._cancel_quietly) as interrupt:
+            try:
+                for event in self.watch(timeout=timeout):
+                    if isinstance(event, ProgressEvent):
+                        show(event)
+                    elif isinstance(event, ResultEvent):
+                        result = event.result
+                    elif event.terminal:
+                        terminal = event
+            except KeyboardInterrupt:
+                # Not turned into a request (second Ctrl-C, a thread, the program's own handler):
+                # gRPC's channel may be stuck now, so cancel over a new one.
+                show.close()
+                self._client._cancel_on_new_channel(self.id)
+                raise Interrupted(self.id, result) from None
         show.close()
+        if interrupt.requested.is_set():
+            raise Interrupted(self.id, result)
         assert terminal is not None  # watch() only returns after the terminal state
         return self._outcome(terminal, result)
 
@@ -148,14 +156,8 @@ class Job:
         code = terminal.code if terminal.code != grpc.StatusCode.OK else grpc.StatusCode.INTERNAL
         raise error_for(code, terminal.message, doing="job " + self.id + " failed", job_id=self.id)
 
-    def _cancel_after_interrupt(self) -> Optional[Result]:
-        """Cancels the job and returns its best path so far; a second Ctrl-C stops waiting."""
-        result = None
+    def _cancel_quietly(self) -> None:
         try:
             self.cancel()
-            for event in self.watch(timeout=self._client.cancel_wait_seconds):
-                if isinstance(event, ResultEvent):
-                    result = event.result
-        except (KeyboardInterrupt, DepathError):
-            pass
-        return result
+        except DepathError:
+            pass  # the watch reports what happens to the job

@@ -24,6 +24,7 @@ class CancelOnInterrupt:
         self.requested = threading.Event()
         self._cancel = cancel
         self._done = threading.Event()
+        self._wake = threading.Event()  # set by the first Ctrl-C or at the end: no polling delay
         self._previous: Any = None
         self._thread: Optional[threading.Thread] = None
 
@@ -40,15 +41,16 @@ class CancelOnInterrupt:
         if self._thread is not None:
             signal.signal(signal.SIGINT, self._previous)
             self._done.set()
+            self._wake.set()
             self._thread.join()
 
     def _on_interrupt(self, signum: int, frame: Optional[FrameType]) -> None:
         if self.requested.is_set():
             raise KeyboardInterrupt
         self.requested.set()
+        self._wake.set()
 
     def _cancel_when_requested(self) -> None:
-        while not self._done.is_set():
-            if self.requested.wait(0.05):
-                self._cancel()
-                return
+        self._wake.wait()
+        if self.requested.is_set() and not self._done.is_set():
+            self._cancel()

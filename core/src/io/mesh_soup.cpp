@@ -35,8 +35,8 @@ void SoupBuilder::reserve(uint64_t vertices, uint64_t triangles) {
 
 void SoupBuilder::add_vertex(double x, double y, double z, const std::string& where) {
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z))
-    fail("has a non-finite coordinate (NaN or infinity, or a number too large for a double) at vertex " +
-         std::to_string(positions_.size()) + " (" + where + ")");
+    fail("has a non-finite coordinate at vertex " + std::to_string(positions_.size()) + " (" + where +
+         "): NaN, infinity or a number too large for its type");
   if (positions_.size() >= kMaxElements) fail("has more than " + std::to_string(kMaxElements) + " vertices");
   positions_.emplace_back(x, y, z);
 }

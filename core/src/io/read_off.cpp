@@ -60,11 +60,11 @@ void read_off(std::string_view bytes, SoupBuilder& soup) {
   if (keyword.find('4') != std::string_view::npos) ++dimension;
   const int64_t nv = header_number(soup, words[w++], "vertex count");
   const int64_t nf = header_number(soup, words[w++], "face count");
-  // At least "0 0 0\n" per vertex and "3 0 1 2\n" per face.
+  // At least "0 0 0" per vertex and "3 0 1 2" per face, less a little for the line ends.
   const uint64_t left = lines.bytes_left();
-  soup.check_count(nv, 6, left, "vertices");
-  soup.check_count(nf, 8, left, "faces");
-  if (static_cast<uint64_t>(nv) * 6 + static_cast<uint64_t>(nf) * 8 > left)
+  soup.check_count(nv, 4, left, "vertices");
+  soup.check_count(nf, 6, left, "faces");
+  if (static_cast<uint64_t>(nv) * 4 + static_cast<uint64_t>(nf) * 6 > left)
     soup.truncated("its OFF header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
                    " faces, more than its " + std::to_string(bytes.size()) + " bytes can hold");
   soup.reserve(nv, nf);

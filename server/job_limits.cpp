@@ -25,13 +25,6 @@ void check_job_limits(const ServerOptions& options, const JobSpec& spec, int num
     throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED,
                        "generations " + std::to_string(generations) + " exceeds the server's limit of " +
                            std::to_string(options.max_generations) + " generations per job (--max-generations)");
-  const uint64_t evaluations = population * (generations + 1);
-  if (evaluations > options.max_evaluations)
-    throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                       "population " + std::to_string(population) + " x " + std::to_string(generations + 1) +
-                           " generations (with the initial one) = " + std::to_string(evaluations) +
-                           " evaluations exceeds the server's limit of " + std::to_string(options.max_evaluations) +
-                           " evaluations per job (--max-evaluations)");
   const uint64_t bytes = estimated_job_bytes(spec, num_vertices);
   if (bytes > options.max_job_memory_bytes)
     throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED,
@@ -39,6 +32,13 @@ void check_job_limits(const ServerOptions& options, const JobSpec& spec, int num
                            " vertices needs about " + megabytes(bytes) + " (population x vertices x " +
                            std::to_string(kJobBytesPerAgentVertex) + " bytes), more than the server's memory limit of " +
                            megabytes(options.max_job_memory_bytes) + " per job (--max-job-memory-bytes); lower the population");
+  const uint64_t evaluations = population * (generations + 1);
+  if (evaluations > options.max_evaluations)
+    throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                       "population " + std::to_string(population) + " x " + std::to_string(generations + 1) +
+                           " generations (with the initial one) = " + std::to_string(evaluations) +
+                           " evaluations exceeds the server's limit of " + std::to_string(options.max_evaluations) +
+                           " evaluations per job (--max-evaluations)");
 }
 
 }  // namespace depath::service

@@ -184,7 +184,7 @@ v1::SubmitJobResponse submit_job(RemoteClient& client, const JobOptions& options
   for (int attempt = 0;; ++attempt) {
     if (is_file) {
       bool uploaded = false;
-      mesh_id = client.ensure_mesh(options.mesh_path, &uploaded).id();
+      mesh_id = client.ensure_mesh(options.mesh_path, &uploaded, options.mesh_format).id();
       if (uploaded && !quiet && !options.json) std::fprintf(stderr, "uploaded %s as %s\n", options.mesh_path.c_str(), mesh_id.c_str());
     }
     v1::SubmitJobRequest req;
@@ -439,7 +439,7 @@ void add_run(CLI::App& app) {
   cmd->callback([o] {
     o->remote.json = o->job.json;
     if (!o->job.out.empty()) check_result_path(o->job.out);  // fail before the work, not after
-    const Mesh mesh = load_mesh(o->job.mesh_path);  // validates locally and writes the result later
+    const Mesh mesh = load_mesh(o->job.mesh_path, o->job.mesh_format);  // validates locally and writes the result later
     // Every call of this job (mesh lookup/upload, submit, watch and its reconnects, result)
     // goes to one replica, chosen at random among a multi-replica target's addresses.
     RemoteClient client(pin_to_random_replica(o->remote));

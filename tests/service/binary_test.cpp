@@ -185,6 +185,10 @@ TEST_F(BinaryTest, HostileUploadsAndSpecsGetClearErrorsAndTheServerStaysServing)
   const auto as_obj = run_command(limit + client("upload --force --format obj " + txt.string(), d));
   EXPECT_EQ(as_obj.rc, 0) << as_obj.output;
   EXPECT_NE(as_obj.output.find("400 vertices"), std::string::npos) << as_obj.output;
+  const auto submit_txt =
+      run_command(limit + client("submit --format obj " + txt.string() + " -s 0 -t 399 --population 8 --generations 2", d));
+  EXPECT_EQ(submit_txt.rc, 0) << submit_txt.output;
+  EXPECT_EQ(last_line(submit_txt.output).rfind("job-", 0), 0u) << submit_txt.output;  // prints the job id
 
   // A PLY of triangle strips: the unit square as one strip 0 1 2 3.
   const fs::path strips = dir_ / "strips.ply";

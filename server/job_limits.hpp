@@ -2,10 +2,10 @@
 // the machine, not the algorithm, so they live in the server and are flags (ServerOptions).
 #pragma once
 
+#include <cstdint>
+
 #include "depath/solve/job.hpp"
 #include "options.hpp"
-
-#include <cstdint>
 
 namespace depath::service {
 

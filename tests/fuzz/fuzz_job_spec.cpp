@@ -1,14 +1,14 @@
 // libFuzzer target: job-spec validation (validate_job, which also builds the energy) on a small
 // grid, with every field taken from the fuzz bytes; a spec that validates and is cheap is also
 // solved. Only depath::Error may come out; crashes, sanitizer reports and hangs are findings.
+#include <fuzzer/FuzzedDataProvider.h>
+
+#include <cstdint>
+
 #include "depath/generators/surfaces.hpp"
 #include "depath/solve/job.hpp"
 #include "depath/solve/solve.hpp"
 #include "depath/util/error.hpp"
-
-#include <fuzzer/FuzzedDataProvider.h>
-
-#include <cstdint>
 
 namespace {
 
@@ -24,10 +24,14 @@ const depath::Mesh& grid() {
 
 double any_double(FuzzedDataProvider& in) {
   switch (in.ConsumeIntegralInRange<int>(0, 3)) {
-    case 0: return in.ConsumeFloatingPoint<double>();  // any bit pattern class, NaN and inf included
-    case 1: return in.ConsumeFloatingPointInRange<double>(-2.0, 2.0);
-    case 2: return in.PickValueInArray({0.0, 1e-308, 1e308, 1e-100, 1e100, -0.0, 1.0});
-    default: return in.ConsumeProbability<double>();
+    case 0:
+      return in.ConsumeFloatingPoint<double>();  // any bit pattern class, NaN and inf included
+    case 1:
+      return in.ConsumeFloatingPointInRange<double>(-2.0, 2.0);
+    case 2:
+      return in.PickValueInArray({0.0, 1e-308, 1e308, 1e-100, 1e100, -0.0, 1.0});
+    default:
+      return in.ConsumeProbability<double>();
   }
 }
 
@@ -59,7 +63,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   job.energy.rotate_degrees = any_double(in);
   job.energy.slope = any_double(in);
   const int density_size = in.PickValueInArray({0, nv, nv - 1, 1});
-  for (int i = 0; i < density_size && in.remaining_bytes() > 0; ++i) job.energy.density.push_back(any_double(in));
+  for (int i = 0; i < density_size && in.remaining_bytes() > 0; ++i)
+    job.energy.density.push_back(any_double(in));
   if (in.ConsumeBool()) {
     const int field_size = in.PickValueInArray({nv, 1});
     for (int i = 0; i < field_size && in.remaining_bytes() > 0; ++i)

@@ -2,13 +2,13 @@
 // the format; the rest is the file. A read either gives a mesh whose faces index its vertices
 // and whose coordinates are finite, or throws depath::Error; anything else (crash, leak,
 // sanitizer report, timeout, out-of-memory) is a finding.
-#include "depath/io/mesh_reader.hpp"
-#include "depath/util/error.hpp"
-
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <string_view>
+
+#include "depath/io/mesh_reader.hpp"
+#include "depath/util/error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (size < 1) return 0;

@@ -1,12 +1,12 @@
 #include "depath/io/mesh_reader.hpp"
 
-#include "depath/util/error.hpp"
-#include "io/mesh_soup.hpp"
-
 #include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <iterator>
+
+#include "depath/util/error.hpp"
+#include "io/mesh_soup.hpp"
 
 namespace depath {
 
@@ -34,15 +34,19 @@ Mesh load_mesh_from_bytes(std::string_view bytes, std::string_view format, std::
                           const MeshReadLimits& limits) {
   const std::string fmt = lowercase(format);
   if (!known_format(fmt))
-    throw Error(ErrorCode::invalid_argument,
-                "unknown mesh format '" + fmt + "' for " + std::string(name) + ": expected obj, off, ply or stl");
+    throw Error(ErrorCode::invalid_argument, "unknown mesh format '" + fmt + "' for " + std::string(name) +
+                                                 ": expected obj, off, ply or stl");
   const std::string label(name);
   if (bytes.empty()) throw Error(ErrorCode::invalid_argument, "mesh " + label + " is empty (0 bytes)");
   io::SoupBuilder soup(label, fmt, limits.deadline);
-  if (fmt == "obj") io::read_obj(bytes, soup);
-  else if (fmt == "off") io::read_off(bytes, soup);
-  else if (fmt == "ply") io::read_ply(bytes, soup);
-  else io::read_stl(bytes, soup);
+  if (fmt == "obj")
+    io::read_obj(bytes, soup);
+  else if (fmt == "off")
+    io::read_off(bytes, soup);
+  else if (fmt == "ply")
+    io::read_ply(bytes, soup);
+  else
+    io::read_stl(bytes, soup);
   return soup.build();
 }
 

@@ -1,9 +1,9 @@
 #include "io/mesh_soup.hpp"
 
-#include "depath/util/error.hpp"
-
 #include <climits>
 #include <cmath>
+
+#include "depath/util/error.hpp"
 
 namespace depath::io {
 
@@ -12,7 +12,8 @@ namespace {
 constexpr uint64_t kMaxElements = INT_MAX;
 }  // namespace
 
-SoupBuilder::SoupBuilder(std::string label, std::string format, std::chrono::steady_clock::time_point deadline)
+SoupBuilder::SoupBuilder(std::string label, std::string format,
+                         std::chrono::steady_clock::time_point deadline)
     : label_(std::move(label)), format_(std::move(format)), deadline_(deadline) {}
 
 void SoupBuilder::fail(const std::string& what) const {
@@ -50,7 +51,8 @@ int SoupBuilder::checked_index(int64_t index, const std::string& where) const {
 
 void SoupBuilder::add_polygon(std::span<const int64_t> indices, const std::string& where) {
   if (indices.size() < 3)
-    fail("has a face with " + std::to_string(indices.size()) + " vertices (" + where + "); a face needs at least 3");
+    fail("has a face with " + std::to_string(indices.size()) + " vertices (" + where +
+         "); a face needs at least 3");
   if (triangles_.size() + indices.size() - 2 > kMaxElements)
     fail("has more than " + std::to_string(kMaxElements) + " triangles");
   const int first = checked_index(indices[0], where);
@@ -72,10 +74,13 @@ void SoupBuilder::add_strip(std::span<const int64_t> indices, const std::string&
     }
     const int c = checked_index(raw, where);
     if (run >= 2 && a != b && b != c && a != c) {
-      if (triangles_.size() >= kMaxElements) fail("has more than " + std::to_string(kMaxElements) + " triangles");
+      if (triangles_.size() >= kMaxElements)
+        fail("has more than " + std::to_string(kMaxElements) + " triangles");
       // Odd triangles of a strip are wound the other way round.
-      if (run % 2 == 0) triangles_.push_back({a, b, c});
-      else triangles_.push_back({b, a, c});
+      if (run % 2 == 0)
+        triangles_.push_back({a, b, c});
+      else
+        triangles_.push_back({b, a, c});
     }
     a = b;
     b = c;

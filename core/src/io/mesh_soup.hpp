@@ -2,14 +2,14 @@
 // (element caps against the byte size, index ranges, finite coordinates, the parse deadline).
 #pragma once
 
-#include "depath/mesh/mesh.hpp"
-
 #include <array>
 #include <chrono>
 #include <cstdint>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "depath/mesh/mesh.hpp"
 
 namespace depath::io {
 
@@ -26,7 +26,8 @@ class SoupBuilder {
   [[noreturn]] void truncated(const std::string& what) const;
   /// Refuses a declared count that the remaining bytes cannot hold at `min_bytes_each` bytes per
   /// element, before anything is allocated for it.
-  void check_count(uint64_t count, uint64_t min_bytes_each, uint64_t bytes_left, const std::string& what) const;
+  void check_count(uint64_t count, uint64_t min_bytes_each, uint64_t bytes_left,
+                   const std::string& what) const;
 
   void reserve(uint64_t vertices, uint64_t triangles);
   /// Adds a vertex; `where` ("line 4", "record 2") names it if a coordinate is not finite.

@@ -1,10 +1,10 @@
 // OFF reader (ascii; the [ST][C][N][4][n]OFF header variants): one vertex or face per line, extra
 // values (colours, normals, texture coordinates) ignored. Coordinates are single precision, as
 // the OFF files we read were written and as our readers always delivered them.
+#include <vector>
+
 #include "io/mesh_soup.hpp"
 #include "io/text_scan.hpp"
-
-#include <vector>
 
 namespace depath::io {
 
@@ -22,7 +22,8 @@ bool next_data_line(LineScanner& lines, std::string_view& line) {
 
 int64_t header_number(SoupBuilder& soup, std::string_view token, const char* what) {
   const auto n = parse_integer(token);
-  if (!n || *n < 0) soup.truncated("the OFF header's " + std::string(what) + " " + quoted(token) + " is not a count");
+  if (!n || *n < 0)
+    soup.truncated("the OFF header's " + std::string(what) + " " + quoted(token) + " is not a count");
   return *n;
 }
 
@@ -72,7 +73,8 @@ void read_off(std::string_view bytes, SoupBuilder& soup) {
   for (int64_t v = 0; v < nv; ++v) {
     soup.tick();
     if (!next_data_line(lines, line))
-      soup.truncated("the file ends after " + std::to_string(v) + " of its " + std::to_string(nv) + " vertices");
+      soup.truncated("the file ends after " + std::to_string(v) + " of its " + std::to_string(nv) +
+                     " vertices");
     Tokens values(line);
     double xyz[3];
     for (int k = 0; k < 3; ++k) {
@@ -80,7 +82,8 @@ void read_off(std::string_view bytes, SoupBuilder& soup) {
         soup.fail("has a vertex line with fewer than 3 coordinates (vertex " + std::to_string(v) + ", " +
                   lines.where() + ")");
       const auto x = parse_real(token, true);
-      if (!x) soup.fail("has a coordinate " + quoted(token) + " that is not a number (" + lines.where() + ")");
+      if (!x)
+        soup.fail("has a coordinate " + quoted(token) + " that is not a number (" + lines.where() + ")");
       xyz[k] = *x;
     }
     soup.add_vertex(xyz[0], xyz[1], xyz[2], lines.where());
@@ -95,15 +98,19 @@ void read_off(std::string_view bytes, SoupBuilder& soup) {
     values.next(token);
     const auto n = parse_integer(token);
     const std::string where = "face " + std::to_string(f) + ", " + lines.where();
-    if (!n || *n < 0) soup.fail("has a face whose vertex count " + quoted(token) + " is not a count (" + where + ")");
-    if (*n < 3) soup.fail("has a face with " + std::to_string(*n) + " vertices (" + where + "); a face needs at least 3");
+    if (!n || *n < 0)
+      soup.fail("has a face whose vertex count " + quoted(token) + " is not a count (" + where + ")");
+    if (*n < 3)
+      soup.fail("has a face with " + std::to_string(*n) + " vertices (" + where +
+                "); a face needs at least 3");
     face.clear();
     for (int64_t k = 0; k < *n; ++k) {
       if (!values.next(token))
-        soup.fail("has a face line claiming " + std::to_string(*n) + " vertices but giving " + std::to_string(k) +
-                  " (" + where + ")");
+        soup.fail("has a face line claiming " + std::to_string(*n) + " vertices but giving " +
+                  std::to_string(k) + " (" + where + ")");
       const auto index = parse_integer(token);
-      if (!index) soup.fail("has a face vertex index " + quoted(token) + " that is not an integer (" + where + ")");
+      if (!index)
+        soup.fail("has a face vertex index " + quoted(token) + " that is not an integer (" + where + ")");
       face.push_back(*index);
     }
     soup.add_polygon(face, where);

@@ -2,12 +2,12 @@
 // vertex element's x, y, z, the face element's vertex_indices (or vertex_index) list and the
 // tristrips element's vertex_indices strips (-1 restarts); other elements and properties are
 // walked over. Values keep the precision of their declared type.
-#include "io/mesh_soup.hpp"
-#include "io/text_scan.hpp"
-
 #include <bit>
 #include <cstring>
 #include <vector>
+
+#include "io/mesh_soup.hpp"
+#include "io/text_scan.hpp"
 
 namespace depath::io {
 
@@ -29,11 +29,20 @@ Type type_from_name(std::string_view n) {
 
 int type_size(Type t) {
   switch (t) {
-    case Type::int8: case Type::uint8: return 1;
-    case Type::int16: case Type::uint16: return 2;
-    case Type::int32: case Type::uint32: case Type::float32: return 4;
-    case Type::float64: return 8;
-    case Type::none: break;
+    case Type::int8:
+    case Type::uint8:
+      return 1;
+    case Type::int16:
+    case Type::uint16:
+      return 2;
+    case Type::int32:
+    case Type::uint32:
+    case Type::float32:
+      return 4;
+    case Type::float64:
+      return 8;
+    case Type::none:
+      break;
   }
   return 0;
 }
@@ -50,7 +59,8 @@ struct Element {
   std::vector<Property> properties;
   uint64_t min_record_bytes() const {
     uint64_t n = 0;
-    for (const auto& p : properties) n += p.count_type == Type::none ? type_size(p.type) : type_size(p.count_type);
+    for (const auto& p : properties)
+      n += p.count_type == Type::none ? type_size(p.type) : type_size(p.count_type);
     return n;
   }
 };
@@ -59,7 +69,12 @@ struct Element {
 class RecordReader {
  public:
   RecordReader(std::string_view bytes, size_t start, bool ascii, bool big_endian, SoupBuilder& soup)
-      : bytes_(bytes), pos_(start), ascii_(ascii), big_(big_endian), lines_(bytes, start), tokens_({}),
+      : bytes_(bytes),
+        pos_(start),
+        ascii_(ascii),
+        big_(big_endian),
+        lines_(bytes, start),
+        tokens_({}),
         soup_(soup) {}
 
   uint64_t bytes_left() const { return ascii_ ? lines_.bytes_left() : bytes_.size() - pos_; }
@@ -71,8 +86,8 @@ class RecordReader {
     std::string_view line, token;
     do {
       if (!lines_.next(line))
-        soup_.truncated("the file ends at element '" + e.name + "' record " + std::to_string(record) + " of " +
-                        std::to_string(e.count));
+        soup_.truncated("the file ends at element '" + e.name + "' record " + std::to_string(record) +
+                        " of " + std::to_string(e.count));
     } while (!Tokens(line).next(token));
     tokens_ = Tokens(line);
   }
@@ -105,15 +120,24 @@ class RecordReader {
       for (int i = 0; i < size / 2; ++i) std::swap(b[i], b[size - 1 - i]);
     }
     switch (t) {
-      case Type::int8: return static_cast<double>(static_cast<int8_t>(b[0]));
-      case Type::uint8: return static_cast<double>(b[0]);
-      case Type::int16: return load<int16_t>(b);
-      case Type::uint16: return load<uint16_t>(b);
-      case Type::int32: return load<int32_t>(b);
-      case Type::uint32: return load<uint32_t>(b);
-      case Type::float32: return load<float>(b);
-      case Type::float64: return load<double>(b);
-      case Type::none: break;
+      case Type::int8:
+        return static_cast<double>(static_cast<int8_t>(b[0]));
+      case Type::uint8:
+        return static_cast<double>(b[0]);
+      case Type::int16:
+        return load<int16_t>(b);
+      case Type::uint16:
+        return load<uint16_t>(b);
+      case Type::int32:
+        return load<int32_t>(b);
+      case Type::uint32:
+        return load<uint32_t>(b);
+      case Type::float32:
+        return load<float>(b);
+      case Type::float64:
+        return load<double>(b);
+      case Type::none:
+        break;
     }
     return std::nullopt;
   }
@@ -122,7 +146,9 @@ class RecordReader {
   double required(Type t, const std::string& what) {
     const auto v = value(t);
     if (!v) {
-      if (ascii_) soup_.fail("has a record with fewer values than its properties declare: " + what + " is missing (" + where() + ")");
+      if (ascii_)
+        soup_.fail("has a record with fewer values than its properties declare: " + what + " is missing (" +
+                   where() + ")");
       soup_.truncated("the data ends inside " + where());
     }
     return *v;
@@ -149,7 +175,8 @@ class RecordReader {
   uint64_t record_ = 0;
 };
 
-std::vector<Element> parse_header(std::string_view bytes, SoupBuilder& soup, std::string& format, size_t& data) {
+std::vector<Element> parse_header(std::string_view bytes, SoupBuilder& soup, std::string& format,
+                                  size_t& data) {
   LineScanner lines(bytes);
   std::string_view line, token;
   if (!lines.next(line) || line != "ply") soup.fail("does not parse as ply: it does not start with 'ply'");
@@ -166,9 +193,11 @@ std::vector<Element> parse_header(std::string_view bytes, SoupBuilder& soup, std
     } else if (token == "element") {
       Element e;
       std::string_view count;
-      if (!words.next(token) || !words.next(count)) soup.truncated("bad PLY element line (" + lines.where() + ")");
+      if (!words.next(token) || !words.next(count))
+        soup.truncated("bad PLY element line (" + lines.where() + ")");
       const auto n = parse_integer(count);
-      if (!n || *n < 0) soup.truncated("PLY element '" + std::string(token) + "' has a bad count " + quoted(count));
+      if (!n || *n < 0)
+        soup.truncated("PLY element '" + std::string(token) + "' has a bad count " + quoted(count));
       e.name = std::string(token);
       e.count = static_cast<uint64_t>(*n);
       elements.push_back(std::move(e));
@@ -188,7 +217,8 @@ std::vector<Element> parse_header(std::string_view bytes, SoupBuilder& soup, std
       } else {
         p.type = type_from_name(type);
       }
-      if (p.type == Type::none) soup.truncated("unknown PLY property type in " + quoted(line) + " (" + lines.where() + ")");
+      if (p.type == Type::none)
+        soup.truncated("unknown PLY property type in " + quoted(line) + " (" + lines.where() + ")");
       words.next(name);
       p.name = std::string(name);
       elements.back().properties.push_back(std::move(p));
@@ -213,12 +243,14 @@ void read_ply(std::string_view bytes, SoupBuilder& soup) {
   // Caps before any allocation: ascii values take at least 2 bytes, binary records their fixed part.
   uint64_t need = 0;
   for (const auto& e : elements) {
-    const uint64_t each = ascii ? 2 * std::max<uint64_t>(1, e.properties.size()) : std::max<uint64_t>(1, e.min_record_bytes());
+    const uint64_t each =
+        ascii ? 2 * std::max<uint64_t>(1, e.properties.size()) : std::max<uint64_t>(1, e.min_record_bytes());
     soup.check_count(e.count, each, reader.bytes_left(), "'" + e.name + "' records");
     need += e.count * each;
   }
   if (need > reader.bytes_left())
-    soup.truncated("the PLY header declares more records than its " + std::to_string(bytes.size()) + " bytes can hold");
+    soup.truncated("the PLY header declares more records than its " + std::to_string(bytes.size()) +
+                   " bytes can hold");
 
   uint64_t vertices = 0, triangles = 0;
   for (const auto& e : elements) {
@@ -257,21 +289,23 @@ void read_ply(std::string_view bytes, SoupBuilder& soup) {
         }
         const double n = reader.required(p.count_type, "the length of list '" + p.name + "'");
         if (n < 0 || !reader.fits(static_cast<uint64_t>(n), p.type))
-          soup.truncated("list '" + p.name + "' of " + reader.where() + " claims " + std::to_string(static_cast<int64_t>(n)) +
-                         " items, more than the data holds");
-        const bool wanted = (is_face || is_strips) && (p.name == "vertex_indices" || p.name == "vertex_index");
+          soup.truncated("list '" + p.name + "' of " + reader.where() + " claims " +
+                         std::to_string(static_cast<int64_t>(n)) + " items, more than the data holds");
+        const bool wanted =
+            (is_face || is_strips) && (p.name == "vertex_indices" || p.name == "vertex_index");
         list.clear();
         for (uint64_t k = 0; k < static_cast<uint64_t>(n); ++k) {
           const auto item = reader.value(p.type);
           if (!item) {
             if (is_face)
-              soup.fail("has a face claiming " + std::to_string(static_cast<int64_t>(n)) + " vertices but giving " +
-                        std::to_string(k) + " (" + reader.where() + ")");
+              soup.fail("has a face claiming " + std::to_string(static_cast<int64_t>(n)) +
+                        " vertices but giving " + std::to_string(k) + " (" + reader.where() + ")");
             soup.fail("has a list '" + p.name + "' claiming " + std::to_string(static_cast<int64_t>(n)) +
                       " items but giving " + std::to_string(k) + " (" + reader.where() + ")");
           }
           if (wanted) {
-            if (!(*item >= -1.0 && *item <= 2147483647.0) || *item != static_cast<double>(static_cast<int64_t>(*item)))
+            if (!(*item >= -1.0 && *item <= 2147483647.0) ||
+                *item != static_cast<double>(static_cast<int64_t>(*item)))
               soup.fail("has a face vertex index " + std::to_string(*item) + " that is not a valid index (" +
                         reader.where() + ")");
             list.push_back(static_cast<int64_t>(*item));

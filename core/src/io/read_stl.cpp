@@ -1,12 +1,12 @@
 // STL reader, ascii ("solid ... facet ... vertex x y z ...") and binary (80-byte header, triangle
 // count, 50 bytes per triangle). STL repeats the corners of every triangle: equal positions are
 // merged into one vertex, numbered in order of first appearance.
-#include "io/mesh_soup.hpp"
-#include "io/text_scan.hpp"
-
 #include <cstring>
 #include <unordered_map>
 #include <vector>
+
+#include "io/mesh_soup.hpp"
+#include "io/text_scan.hpp"
 
 namespace depath::io {
 
@@ -45,7 +45,8 @@ class CornerMerger {
 
 void read_binary(std::string_view bytes, SoupBuilder& soup) {
   if (bytes.size() < 84)
-    soup.truncated("a binary STL needs an 84-byte header, the file has " + std::to_string(bytes.size()) + " bytes");
+    soup.truncated("a binary STL needs an 84-byte header, the file has " + std::to_string(bytes.size()) +
+                   " bytes");
   uint32_t count = 0;
   std::memcpy(&count, bytes.data() + 80, 4);  // little endian, as is every machine we build for
   if (84 + 50ull * count > bytes.size())
@@ -85,9 +86,11 @@ void read_ascii(std::string_view bytes, SoupBuilder& soup) {
       soup.tick();
       float xyz[3];
       for (float& x : xyz) {
-        if (!words.next(token)) soup.fail("has a 'vertex' line with fewer than 3 coordinates (" + lines.where() + ")");
+        if (!words.next(token))
+          soup.fail("has a 'vertex' line with fewer than 3 coordinates (" + lines.where() + ")");
         const auto value = parse_real(token, true);
-        if (!value) soup.fail("has a coordinate " + quoted(token) + " that is not a number (" + lines.where() + ")");
+        if (!value)
+          soup.fail("has a coordinate " + quoted(token) + " that is not a number (" + lines.where() + ")");
         x = static_cast<float>(*value);
       }
       facet.push_back(merger.index({xyz[0], xyz[1], xyz[2]}, lines.where()));
@@ -111,8 +114,10 @@ void read_stl(std::string_view bytes, SoupBuilder& soup) {
     const bool has_facet = bytes.substr(0, 1024).find("facet") != std::string_view::npos;
     ascii = !sized_as_binary || has_facet;
   }
-  if (ascii) read_ascii(bytes, soup);
-  else read_binary(bytes, soup);
+  if (ascii)
+    read_ascii(bytes, soup);
+  else
+    read_binary(bytes, soup);
 }
 
 }  // namespace depath::io

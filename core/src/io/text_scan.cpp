@@ -12,7 +12,8 @@ bool LineScanner::next(std::string_view& line) {
   while (end < bytes_.size() && bytes_[end] != '\n' && bytes_[end] != '\r') ++end;
   line = bytes_.substr(pos_, end - pos_);
   if (end < bytes_.size() && bytes_[end] == '\r') ++end;
-  if (end < bytes_.size() && bytes_[end] == '\n' && (end == pos_ + line.size() || bytes_[end - 1] == '\r')) ++end;
+  if (end < bytes_.size() && bytes_[end] == '\n' && (end == pos_ + line.size() || bytes_[end - 1] == '\r'))
+    ++end;
   pos_ = end;
   ++line_;
   return true;

@@ -5,6 +5,7 @@
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -88,7 +89,7 @@ std::shared_ptr<MeshRecord> parse_record(const std::string& id, const std::strin
 std::shared_ptr<MeshRecord> MeshStore::parse_bounded(const std::string& id, const std::string& name,
                                                      const std::string& format, const std::string& bytes) {
   const auto budget = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-      std::chrono::duration<double>(parse_limits_.budget_seconds));
+      std::chrono::duration<double>(std::min(parse_limits_.budget_seconds, 1e7)));  // no overflow
   {
     std::unique_lock lock(parse_mutex_);
     if (!parse_slot_freed_.wait_for(lock, budget, [&] { return parses_running_ < parse_limits_.max_concurrent; }))

@@ -8,6 +8,8 @@ namespace depath::cli {
 
 void add_job_options(CLI::App& cmd, JobOptions& o, bool with_threads) {
   cmd.add_option("MESH", o.mesh_path, "Mesh file (.obj, .off, .ply, .stl)")->required();
+  cmd.add_option("--format", o.mesh_format, "Mesh format when the extension does not tell (e.g. a .txt file)")
+      ->check(CLI::IsMember({"obj", "off", "ply", "stl"}, CLI::ignore_case));
   cmd.add_option("--source,-s", o.source, "Source vertex id (0-based, file order)")->required();
   cmd.add_option("--target,-t", o.target, "Target vertex id (0-based, file order)")->required();
   cmd.add_option("--energy", o.energy, "geodesic | vector_field | constant_slope")->capture_default_str();

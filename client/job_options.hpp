@@ -14,6 +14,7 @@ namespace depath::cli {
 /// Raw flag values as parsed from the command line.
 struct JobOptions {
   std::string mesh_path;
+  std::string mesh_format;  ///< "obj", "off", "ply", "stl"; empty: from the extension
   int source = -1;
   int target = -1;
   std::string energy = "geodesic";

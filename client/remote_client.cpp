@@ -246,7 +246,7 @@ void RemoteClient::check(const grpc::Status& status, const std::string& doing) c
   throw RemoteError(status.error_code(), message);
 }
 
-v1::MeshInfo RemoteClient::upload(const std::string& path) {
+v1::MeshInfo RemoteClient::upload(const std::string& path, const std::string& format) {
   const std::string bytes = read_file_bytes(path);
   auto ctx = context();
   ctx->set_wait_for_ready(true);
@@ -257,6 +257,7 @@ v1::MeshInfo RemoteClient::upload(const std::string& path) {
   auto* header = request.mutable_header();
   header->set_file_name(std::filesystem::path(path).filename().string());
   header->set_size_bytes(bytes.size());
+  header->set_format(format);
   bool ok = writer->Write(request);
   for (size_t offset = 0; ok && offset < bytes.size(); offset += kChunkBytes) {
     request.Clear();
@@ -268,7 +269,7 @@ v1::MeshInfo RemoteClient::upload(const std::string& path) {
   return info;
 }
 
-v1::MeshInfo RemoteClient::ensure_mesh(const std::string& path, bool* uploaded) {
+v1::MeshInfo RemoteClient::ensure_mesh(const std::string& path, bool* uploaded, const std::string& format) {
   const std::string id = wire::sha256_hex(read_file_bytes(path));
   auto ctx = context(options_.connect_timeout_seconds);
   ctx->set_wait_for_ready(true);
@@ -282,7 +283,7 @@ v1::MeshInfo RemoteClient::ensure_mesh(const std::string& path, bool* uploaded) 
   }
   if (status.error_code() != grpc::StatusCode::NOT_FOUND) check(status, "looking up mesh " + id);
   if (uploaded) *uploaded = true;
-  return upload(path);
+  return upload(path, format);
 }
 
 v1::JobEvent RemoteClient::watch(const std::string& job_id, uint64_t after_sequence,

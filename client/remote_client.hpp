@@ -76,11 +76,12 @@ class RemoteClient {
   const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
   const RemoteOptions& options() const { return options_; }
 
-  /// Uploads a mesh file in 1 MiB chunks (always sends the bytes).
-  v1::MeshInfo upload(const std::string& path);
+  /// Uploads a mesh file in 1 MiB chunks (always sends the bytes). `format` ("obj", "off",
+  /// "ply", "stl") goes in the header; empty: the server takes it from the file name.
+  v1::MeshInfo upload(const std::string& path, const std::string& format = "");
   /// The server's info for the file's mesh id, uploading the file only if the server lacks
   /// it. `uploaded` tells whether bytes were sent.
-  v1::MeshInfo ensure_mesh(const std::string& path, bool* uploaded = nullptr);
+  v1::MeshInfo ensure_mesh(const std::string& path, bool* uploaded = nullptr, const std::string& format = "");
 
   /// Streams the job's events after `after_sequence` to `on_event` until the terminal
   /// state; reconnects (with backoff) after UNAVAILABLE / dropped connections and resumes

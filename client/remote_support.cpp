@@ -113,7 +113,7 @@ v1::SubmitJobResponse submit_job(RemoteClient& client, const JobOptions& options
   for (int attempt = 0;; ++attempt) {
     if (is_file) {
       bool uploaded = false;
-      mesh_id = client.ensure_mesh(options.mesh_path, &uploaded).id();
+      mesh_id = client.ensure_mesh(options.mesh_path, &uploaded, options.mesh_format).id();
       if (uploaded && !quiet && !options.json) std::fprintf(stderr, "uploaded %s as %s\n", options.mesh_path.c_str(), mesh_id.c_str());
     }
     v1::SubmitJobRequest req;

@@ -18,7 +18,7 @@ namespace {
 
 void run_solve(const JobOptions& options) {
   if (!options.out.empty()) check_result_path(options.out);
-  const Mesh mesh = load_mesh(options.mesh_path);
+  const Mesh mesh = load_mesh(options.mesh_path, options.mesh_format);
   const JobSpec job = make_job_spec(options);
   ProgressDisplay display(options.json);
 

@@ -15,12 +15,15 @@ void add_upload_command(CLI::App& app) {
   struct Opts {
     RemoteOptions remote;
     std::string mesh;
+    std::string format;
     bool force = false;
   };
   auto o = std::make_shared<Opts>();
   CLI::App* cmd = app.add_subcommand("upload", "Upload a mesh to the server (skipped if it has it); prints its id");
   cmd->add_option("MESH", o->mesh, "Mesh file (.obj, .off, .ply, .stl)")->required();
   cmd->add_flag("--force", o->force, "Send the bytes even if the server has the mesh");
+  cmd->add_option("--format", o->format, "Mesh format when the extension does not tell (e.g. a .txt file)")
+      ->check(CLI::IsMember({"obj", "off", "ply", "stl"}, CLI::ignore_case));
   cmd->add_flag("--json", o->remote.json, "Print the mesh info as JSON");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
@@ -31,7 +34,7 @@ void add_upload_command(CLI::App& app) {
     for (const auto& replica : replicas) {
       RemoteClient client(replica);
       bool uploaded = true;
-      const v1::MeshInfo info = o->force ? client.upload(o->mesh) : client.ensure_mesh(o->mesh, &uploaded);
+      const v1::MeshInfo info = o->force ? client.upload(o->mesh, o->format) : client.ensure_mesh(o->mesh, &uploaded, o->format);
       if (!first) first = info;
       if (o->remote.json) continue;
       const std::string where = replicas.size() > 1 ? " (" + replica.server + ")" : "";

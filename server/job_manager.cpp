@@ -4,6 +4,7 @@
 #include "depath/util/error.hpp"
 #include "depath/solve/solve.hpp"
 #include "depath/wire/wire.hpp"
+#include "job_limits.hpp"
 #include "service_error.hpp"
 
 #include <algorithm>
@@ -134,6 +135,7 @@ v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request) {
   JobSpec spec = wire::job_from_proto(request.spec());
   auto lease = meshes_.acquire(request.spec().mesh_id());
   validate_job(lease->mesh(), spec);
+  check_job_limits(options_, spec, lease->mesh().num_vertices());
 
   std::lock_guard lock(mutex_);
   if (stopping_) throw ServiceError(grpc::StatusCode::UNAVAILABLE, "server is shutting down; not accepting new jobs");

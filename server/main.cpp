@@ -36,6 +36,20 @@ int main(int argc, char** argv) {
   app.add_option("--shutdown-timeout-seconds", o.shutdown_timeout_seconds,
                  "Bound on a graceful shutdown (SIGTERM/SIGINT)")
       ->capture_default_str();
+  app.add_option("--max-concurrent-parses", o.max_concurrent_parses,
+                 "Mesh parses (uploads and reloads from --data-dir) running at the same time")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--parse-timeout-seconds", o.parse_timeout_seconds,
+                 "Budget of one mesh parse (and of the wait for a parse slot); past it RESOURCE_EXHAUSTED")
+      ->capture_default_str()->check(CLI::PositiveNumber);
+  app.add_option("--max-generations", o.max_generations, "Largest number of generations of a DE job")
+      ->capture_default_str();
+  app.add_option("--max-evaluations", o.max_evaluations,
+                 "Largest population x (generations + 1) of a DE job")
+      ->capture_default_str();
+  app.add_option("--max-job-memory-bytes", o.max_job_memory_bytes,
+                 "Memory a DE job may take by the estimate population x vertices x 16 bytes")
+      ->capture_default_str();
   app.add_option("--data-dir", o.data_dir, "Persist uploaded meshes here; reloaded on a cache miss or restart");
   app.add_option("--auth-token", o.auth_token,
                  "Require metadata 'authorization: Bearer TOKEN' on every call (health exempt)");

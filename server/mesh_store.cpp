@@ -6,6 +6,7 @@
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -26,8 +27,8 @@ ServiceError not_found(const std::string& id) {
 
 MeshLease::~MeshLease() { store_->release(record_); }
 
-MeshStore::MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log)
-    : budget_(budget_bytes), data_dir_(std::move(data_dir)), log_(log) {
+MeshStore::MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log, ParseLimits parse)
+    : budget_(budget_bytes), data_dir_(std::move(data_dir)), log_(log), parse_limits_(parse) {
   if (!data_dir_.empty()) {
     std::error_code ec;
     fs::create_directories(data_dir_, ec);
@@ -65,18 +66,52 @@ std::optional<v1::MeshInfo> MeshStore::find_cached(const std::string& id) {
 
 namespace {
 std::shared_ptr<MeshRecord> parse_record(const std::string& id, const std::string& name, const std::string& format,
-                                         const std::string& bytes) {
+                                         const std::string& bytes, const MeshReadLimits& limits) {
   auto r = std::make_shared<MeshRecord>();
   r->id = id;
   r->name = name;
   r->format = format;
   r->size_bytes = bytes.size();
-  r->mesh = std::make_shared<const Mesh>(load_mesh_from_bytes(bytes, format, name));
+  r->mesh = std::make_shared<const Mesh>(load_mesh_from_bytes(bytes, format, name, limits));
   wire::mesh_info_from_mesh(*r->mesh, &r->info);
   r->memory_bytes = wire::mesh_memory_bytes(*r->mesh);
   return r;
 }
 }  // namespace
+
+std::shared_ptr<MeshRecord> MeshStore::parse_bounded(const std::string& id, const std::string& name,
+                                                     const std::string& format, const std::string& bytes) {
+  const auto budget = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(std::min(parse_limits_.budget_seconds, 1e7)));  // no overflow
+  {
+    std::unique_lock lock(parse_mutex_);
+    if (!parse_slot_freed_.wait_for(lock, budget, [&] { return parses_running_ < parse_limits_.max_concurrent; }))
+      throw Error(ErrorCode::resource_exhausted,
+                  "mesh " + name + " not parsed: all " + std::to_string(parse_limits_.max_concurrent) +
+                      " parse slots (--max-concurrent-parses) stayed busy for the parse budget of " +
+                      std::to_string(parse_limits_.budget_seconds) + " s (--parse-timeout-seconds); try again later");
+    ++parses_running_;
+  }
+  struct SlotRelease {
+    MeshStore* store;
+    ~SlotRelease() {
+      {
+        std::lock_guard lock(store->parse_mutex_);
+        --store->parses_running_;
+      }
+      store->parse_slot_freed_.notify_one();
+    }
+  } release{this};
+  MeshReadLimits limits;
+  limits.deadline = std::chrono::steady_clock::now() + budget;
+  try {
+    return parse_record(id, name, format, bytes, limits);
+  } catch (const Error& e) {
+    if (e.code() != ErrorCode::resource_exhausted) throw;
+    throw Error(ErrorCode::resource_exhausted, std::string(e.what()) + " (" + std::to_string(parse_limits_.budget_seconds) +
+                                                   " s, --parse-timeout-seconds)");
+  }
+}
 
 std::shared_ptr<MeshRecord> MeshStore::insert_locked(std::shared_ptr<Record> record) {
   auto it = records_.find(record->id);
@@ -115,7 +150,7 @@ v1::MeshInfo MeshStore::add(const std::string& id, const std::string& name, cons
     found->set_already_present(true);
     return *found;
   }
-  auto record = parse_record(id, name, format, bytes);  // slow part, outside the lock
+  auto record = parse_bounded(id, name, format, bytes);  // slow part, outside the lock
   if (!data_dir_.empty()) {
     const std::string path = disk_path(id, format);
     const std::string tmp = path + ".tmp";
@@ -140,7 +175,7 @@ std::shared_ptr<MeshRecord> MeshStore::load_from_disk(const std::string& id) {
     std::ifstream in(path, std::ios::binary);
     if (!in) continue;
     std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    auto record = parse_record(id, id + "." + format, format, bytes);
+    auto record = parse_bounded(id, id + "." + format, format, bytes);
     log_.info("mesh.reloaded", {{"mesh", id}, {"path", path}});
     return record;
   }
@@ -148,18 +183,39 @@ std::shared_ptr<MeshRecord> MeshStore::load_from_disk(const std::string& id) {
 }
 
 std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
+  std::promise<std::shared_ptr<Record>> promise;
   {
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     auto it = records_.find(id);
     if (it != records_.end()) {
       touch_locked(*it->second);
       return it->second;
     }
+    auto loading = loading_.find(id);
+    if (loading != loading_.end()) {
+      auto pending = loading->second;
+      lock.unlock();
+      return pending.get();  // another request's parse of the same mesh (rethrows its error)
+    }
+    loading_.emplace(id, promise.get_future().share());
   }
-  auto record = load_from_disk(id);
-  if (!record) throw not_found(id);
-  std::lock_guard lock(mutex_);
-  return insert_locked(std::move(record));
+  std::shared_ptr<Record> stored;
+  try {
+    auto record = load_from_disk(id);
+    if (!record) throw not_found(id);
+    std::lock_guard lock(mutex_);
+    stored = insert_locked(std::move(record));
+    loading_.erase(id);
+  } catch (...) {
+    {
+      std::lock_guard lock(mutex_);
+      loading_.erase(id);
+    }
+    promise.set_exception(std::current_exception());
+    throw;
+  }
+  promise.set_value(stored);
+  return stored;
 }
 
 v1::MeshInfo MeshStore::get(const std::string& id) {

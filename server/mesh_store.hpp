@@ -8,7 +8,10 @@
 #include "depath/wire/mesh.hpp"
 #include "log.hpp"
 
+#include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <future>
 #include <list>
 #include <memory>
 #include <mutex>
@@ -51,22 +54,29 @@ class MeshLease {
   std::string id_;
 };
 
+/// Bounds on parsing (uploads and reloads from the data directory alike).
+struct ParseLimits {
+  int max_concurrent = 2;      ///< parses at the same time; more wait for a slot
+  double budget_seconds = 60;  ///< per parse, and the longest wait for a slot
+};
+
 class MeshStore {
  public:
   /// `data_dir` empty: memory only. Creates the directory if needed.
-  MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log);
+  MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log, ParseLimits parse = {});
 
   /// Info of a cached mesh (marks it recently used), or nullopt. Never reads the disk.
   std::optional<v1::MeshInfo> find_cached(const std::string& id);
 
   /// Parses `bytes` (format "obj"/"off"/"ply"/"stl"), stores the mesh under `id` and
   /// persists the bytes in the data directory. Throws depath::Error(invalid_argument) with
-  /// the loader's message for a bad file. If the id is already cached, nothing is parsed.
+  /// the loader's message for a bad file, Error(resource_exhausted) when no parse slot frees
+  /// up or the parse overruns its budget. If the id is already cached, nothing is parsed.
   v1::MeshInfo add(const std::string& id, const std::string& name, const std::string& format,
                    const std::string& bytes);
 
-  /// Info of a mesh, reloading it from the data directory on a cache miss.
-  /// Throws ServiceError(NOT_FOUND).
+  /// Info of a mesh, reloading it from the data directory on a cache miss (concurrent
+  /// reloads of one mesh share a single parse). Throws ServiceError(NOT_FOUND).
   v1::MeshInfo get(const std::string& id);
 
   v1::ListMeshesResponse list();
@@ -92,6 +102,9 @@ class MeshStore {
   std::shared_ptr<Record> load_from_disk(const std::string& id);
   std::string disk_path(const std::string& id, const std::string& format) const;
   std::shared_ptr<Record> lookup_or_load(const std::string& id);
+  /// Parses within the limits: waits for a slot (at most the budget), then parses with a deadline.
+  std::shared_ptr<Record> parse_bounded(const std::string& id, const std::string& name, const std::string& format,
+                                        const std::string& bytes);
 
   const uint64_t budget_;
   const std::string data_dir_;
@@ -100,6 +113,13 @@ class MeshStore {
   std::unordered_map<std::string, std::shared_ptr<Record>> records_;
   std::list<std::string> lru_;  // most recent first
   uint64_t bytes_ = 0;
+  // Reloads in flight, so that concurrent requests for one mesh wait for a single parse.
+  std::unordered_map<std::string, std::shared_future<std::shared_ptr<Record>>> loading_;
+
+  const ParseLimits parse_limits_;
+  std::mutex parse_mutex_;
+  std::condition_variable parse_slot_freed_;
+  int parses_running_ = 0;
 };
 
 /// True for a 64-character lowercase hex string (the wire layer's one check of a mesh id).

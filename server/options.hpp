@@ -22,6 +22,11 @@ struct ServerOptions {
   std::string log_format = "text";        ///< "text" or "json"
   std::string log_level = "info";         ///< spdlog level name ("off" in quiet tests)
   int upload_parsers = 2;                 ///< threads parsing uploaded meshes
+  int max_concurrent_parses = 2;          ///< mesh parses (uploads and reloads) at the same time
+  double parse_timeout_seconds = 60;      ///< budget of one parse, and of the wait for a parse slot
+  uint64_t max_generations = 1000000;     ///< per DE job; more: RESOURCE_EXHAUSTED at submit
+  uint64_t max_evaluations = 100000000;   ///< population x (generations + 1) per DE job
+  uint64_t max_job_memory_bytes = 1ull << 30;  ///< estimate population x vertices x 16 bytes per job
 };
 
 }  // namespace depath::service

@@ -51,7 +51,7 @@ struct Server::Impl {
         // The pool's callers (one driver per running job) work too, so give it one fewer
         // worker than the threads asked for.
         pool(std::max(0, pool_workers(o) - 1)),
-        meshes(o.mesh_cache_bytes, o.data_dir, log),
+        meshes(o.mesh_cache_bytes, o.data_dir, log, ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
         jobs(options, meshes, hub, pool, log),
         blocking(o.upload_parsers),
         context{options, meshes, jobs, log, blocking},

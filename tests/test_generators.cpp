@@ -220,7 +220,7 @@ TEST_F(MeshWriter, RoundTripsThroughTheReaders) {
       const Mesh back = load_mesh(path);
       ASSERT_EQ(back.num_vertices(), mesh->num_vertices()) << name;
       ASSERT_EQ(back.num_faces(), mesh->num_faces()) << name;
-      // The readers (OpenMesh) deliver single-precision coordinates, so the round trip is
+      // The OBJ and OFF readers deliver single-precision coordinates, so the round trip is
       // exact to float precision; the text itself is exact (checked below).
       for (int v = 0; v < mesh->num_vertices(); ++v)
         ASSERT_NEAR((back.position(v) - mesh->position(v)).norm(), 0.0, 1e-7 * (1.0 + mesh->position(v).norm()))

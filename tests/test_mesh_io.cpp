@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -173,6 +176,170 @@ TEST(MeshIo, BytesAndFileGiveTheSameMesh) {
   ASSERT_EQ(a.num_faces(), b.num_faces());
   EXPECT_EQ(a.positions(), b.positions());
   EXPECT_THROW(load_mesh_from_bytes(bytes, "gltf"), Error);
+}
+
+
+// Expects load_mesh_from_bytes to throw `code` with `words` in the message.
+void expect_bytes_rejected(const std::string& bytes, const std::string& format, const std::string& words,
+                           ErrorCode code = ErrorCode::invalid_argument) {
+  try {
+    (void)load_mesh_from_bytes(bytes, format, "m." + format);
+    ADD_FAILURE() << format << " bytes were accepted, expected: " << words;
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), code) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << "message: " << e.what();
+  }
+}
+
+const char* kTriangleObj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+
+TEST(MeshReaders, ObjNeverOpensWhatMtllibNames) {
+  for (const char* target : {"/dev/urandom", "/dev/zero", "/etc/passwd", "../../../etc/shadow"}) {
+    const Mesh mesh = load_mesh_from_bytes(std::string("mtllib ") + target + "\nusemtl x\ncall /bin/sh\n" + kTriangleObj,
+                                           "obj", "hostile.obj");
+    EXPECT_EQ(mesh.num_vertices(), 3) << target;
+    EXPECT_EQ(mesh.num_faces(), 1) << target;
+    EXPECT_EQ(mesh.position(1), Vec3(1, 0, 0));
+  }
+}
+
+TEST(MeshReaders, ObjCornerFormsAndNegativeIndices) {
+  const Mesh mesh = load_mesh_from_bytes(
+      "v 0 0 0\nvt 0 0\nvn 0 0 1\nv 1 0 0\nv 1 1 0 1.0\nv 0 1 0\nf 1/1/1 2//1 3/1\nf -4 -2 -1\n", "obj", "forms.obj");
+  ASSERT_EQ(mesh.num_faces(), 2);
+  EXPECT_EQ(mesh.face(0), (std::array<int, 3>{0, 1, 2}));
+  EXPECT_EQ(mesh.face(1), (std::array<int, 3>{0, 2, 3}));
+  expect_bytes_rejected("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "obj", "index 0");
+  expect_bytes_rejected("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n", "obj", "missing vertices");
+  expect_bytes_rejected("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "obj", "a face needs at least 3");
+  expect_bytes_rejected("v 0 zero 0\n", "obj", "'zero' that is not a number (line 1)");
+}
+
+TEST(MeshReaders, NonFiniteCoordinatesAreNamedAsSuch) {
+  expect_bytes_rejected("v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n", "obj", "non-finite coordinate");
+  expect_bytes_rejected("v 0 0 0\nv 1 0 0\nv 0 1e999 0\nf 1 2 3\n", "obj", "non-finite coordinate");
+  expect_bytes_rejected("OFF\n3 1 0\n0 0 0\n1 inf 0\n0 1 0\n3 0 1 2\n", "off", "non-finite coordinate at vertex 1 (line 4)");
+  expect_bytes_rejected(
+      "solid s\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex NaN 0 0\nvertex 0 1 0\nendloop\nendfacet\n",
+      "stl", "non-finite coordinate");
+  // A tiny number is no problem: it underflows to (nearly) zero.
+  EXPECT_EQ(load_mesh_from_bytes("v 0 0 1e-400\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "obj").position(0), Vec3(0, 0, 0));
+}
+
+TEST(MeshReaders, FaceLineGivingFewerIndicesThanItClaims) {
+  expect_bytes_rejected("OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 0 1 2\n", "off",
+                        "face line claiming 5 vertices but giving 3 (face 0, line 7)");
+  expect_bytes_rejected(
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n5 0 1 2\n3 0 1 2\n",
+      "ply", "face claiming 5 vertices but giving 3");
+  expect_bytes_rejected("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1\n3 0 1 2\n", "off", "fewer than 3 coordinates (vertex 2, line 5)");
+  expect_bytes_rejected("OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "off", "ends after 1 of its 2 faces");
+}
+
+TEST(MeshReaders, MessagesDoNotDependOnEarlierReads) {
+  const std::string bad_off = "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n";
+  std::string first;
+  try {
+    (void)load_mesh_from_bytes(bad_off, "off");
+  } catch (const Error& e) {
+    first = e.what();
+  }
+  EXPECT_NE(first.find("missing vertices"), std::string::npos) << first;
+  // Reads of other formats and of an OFF with colours in between change nothing.
+  (void)load_mesh_from_bytes(binary_ply(), "ply");
+  (void)load_mesh_from_bytes("COFF\n3 1 0\n0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n3 0 1 2\n", "off");
+  (void)load_mesh_from_bytes(binary_stl(0.0f), "stl");
+  try {
+    (void)load_mesh_from_bytes(bad_off, "off");
+    ADD_FAILURE() << "bad OFF accepted";
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), first);
+  }
+}
+
+// The unit square as two triangle strips in a binary PLY of the given byte order, with a restart.
+std::string tristrip_ply(bool big_endian) {
+  std::string s = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                  " 1.0\nelement vertex 5\nproperty float x\nproperty float y\nproperty float z\n"
+                  "element tristrips 1\nproperty list int int vertex_indices\nend_header\n";
+  auto put = [&](const void* p, size_t n) {
+    std::string b(static_cast<const char*>(p), n);
+    if (big_endian) std::reverse(b.begin(), b.end());
+    s += b;
+  };
+  const float v[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 2, 0, 0};
+  for (float x : v) put(&x, 4);
+  // Strip 0 1 2 3 gives (0 1 2) and (2 1 3); after the restart, 1 4 3 gives (1 4 3).
+  const int32_t strip[] = {8, 0, 1, 2, 3, -1, 1, 4, 3};
+  for (int32_t i : strip) put(&i, 4);
+  return s;
+}
+
+TEST(MeshReaders, PlyTriangleStripsBothByteOrdersAndAscii) {
+  for (bool big : {false, true}) {
+    const Mesh mesh = load_mesh_from_bytes(tristrip_ply(big), "ply", "strips.ply");
+    ASSERT_EQ(mesh.num_vertices(), 5) << big;
+    ASSERT_EQ(mesh.num_faces(), 3) << big;
+    EXPECT_EQ(mesh.face(0), (std::array<int, 3>{0, 1, 2}));
+    EXPECT_EQ(mesh.face(1), (std::array<int, 3>{2, 1, 3}));
+    EXPECT_EQ(mesh.face(2), (std::array<int, 3>{1, 4, 3}));
+    EXPECT_EQ(mesh.position(4), Vec3(2, 0, 0));
+  }
+  // A strip with a repeated vertex (a joint) drops the degenerate triangles only.
+  const Mesh ascii = load_mesh_from_bytes(
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+      "element tristrips 1\nproperty list uint int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n1 1 0.1\n6 0 1 2 2 2 3\n",
+      "ply", "strips_ascii.ply");
+  EXPECT_EQ(ascii.num_faces(), 1);
+  EXPECT_EQ(ascii.position(3), Vec3(1, 1, 0.1));  // double properties keep double precision
+  std::string truncated = tristrip_ply(false);
+  truncated.resize(truncated.size() - 6);
+  expect_bytes_rejected(truncated, "ply", "claims 8 items, more than the data holds");
+}
+
+TEST(MeshReaders, LyingCountsAreRefusedBeforeAllocating) {
+  expect_bytes_rejected(
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n",
+      "ply", "truncated");
+  std::string stl(80, ' ');
+  const uint32_t count = 0xffffffffu;
+  stl.append(reinterpret_cast<const char*>(&count), 4);
+  expect_bytes_rejected(stl, "stl", "declares 4294967295 triangles");
+  expect_bytes_rejected("OFF\n99999999999999999999 1 0\n", "off", "is not a count");
+}
+
+TEST(MeshReaders, BinaryStlWhoseHeaderSaysSolid) {
+  std::string s = binary_stl(0.0f);
+  s.replace(0, 8, "solid xy");
+  const Mesh mesh = load_mesh_from_bytes(s, "stl");
+  EXPECT_EQ(mesh.num_faces(), 2);
+  EXPECT_EQ(mesh.num_vertices(), 4);
+}
+
+TEST(MeshReaders, ParseDeadlineGivesResourceExhausted) {
+  std::string obj;
+  for (int i = 0; i < 10000; ++i) obj += "v " + std::to_string(i) + " 0 0\n";
+  obj += "f 1 2 3\n";
+  MeshReadLimits limits;
+  limits.deadline = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  try {
+    (void)load_mesh_from_bytes(obj, "obj", "slow.obj", limits);
+    ADD_FAILURE() << "deadline ignored";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::resource_exhausted);
+    EXPECT_NE(std::string(e.what()).find("parse time budget"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(load_mesh_from_bytes(obj, "obj", "slow.obj").num_vertices(), 10000);
+}
+
+TEST(MeshReaders, FormatGivenForAnyExtension) {
+  const std::string path = write_temp("cube.txt", kCubeQuadsObj);
+  expect_rejected(path, "unknown mesh format");
+  const Mesh mesh = load_mesh(path, "obj");
+  EXPECT_EQ(mesh.num_faces(), 12);
 }
 
 }  // namespace

@@ -87,6 +87,30 @@ TEST(SolveJobs, RejectsEachBadJobNamingTheProblem) {
   expect_error(mesh, job, ErrorCode::invalid_argument, "field");
 }
 
+TEST(SolveJobs, DensityZeroAndOutOfRangeAreRefusedNotNoPath) {
+  const Mesh& mesh = cone();
+  JobSpec job = fmm_job();
+  job.energy.density.assign(mesh.num_vertices(), 1.0);
+  job.energy.density[7] = 0.0;
+  expect_error(mesh, job, ErrorCode::invalid_argument, "density at vertex 7 is 0: densities must be finite and > 0");
+  for (double d : {1e308, 1e-308, 1e101, 1e-101}) {
+    job.energy.density.assign(mesh.num_vertices(), d);
+    expect_error(mesh, job, ErrorCode::invalid_argument, "densities must lie in [1e-100, 1e100]");
+  }
+}
+
+TEST(SolveJobs, DensitiesAtTheEndsOfTheRangeScaleTheEnergyOnly) {
+  const Mesh& mesh = cone();
+  const SolveResult unit = solve(mesh, fmm_job());
+  for (double d : {1e100, 1e-100}) {
+    JobSpec job = fmm_job();
+    job.energy.density.assign(mesh.num_vertices(), d);
+    const SolveResult scaled = solve(mesh, job);
+    EXPECT_NEAR(scaled.length, unit.length, 1e-9 * unit.length) << d;
+    EXPECT_NEAR(scaled.energy / d, unit.energy, 1e-9 * unit.energy) << d;
+  }
+}
+
 TEST(SolveJobs, DifferentComponentsIsFailedPrecondition) {
   DEPATH_REQUIRE_SHARED_DATA();
   const Mesh mesh = load_mesh(test::shared_data("meshes/beethoven.ply"));

@@ -84,6 +84,7 @@ class Daemon {
   }
   std::string address() const { return "127.0.0.1:" + std::to_string(port_); }
   int port() const { return port_; }
+  pid_t pid() const { return pid_; }
   /// SIGTERM, then waits; returns the exit status and the seconds it took.
   std::pair<int, double> terminate() {
     const auto t0 = std::chrono::steady_clock::now();
@@ -126,12 +127,96 @@ TEST_F(BinaryTest, HelpListsEveryLimit) {
   EXPECT_EQ(r.rc, 0);
   for (const char* flag : {"--listen", "--threads", "--max-running-jobs", "--max-queued-jobs", "--mesh-cache-bytes",
                            "--max-upload-bytes", "--max-message-bytes", "--job-ttl-seconds",
-                           "--shutdown-timeout-seconds", "--data-dir", "--auth-token", "--log-format"}) {
+                           "--shutdown-timeout-seconds", "--data-dir", "--auth-token", "--log-format",
+                           "--max-concurrent-parses", "--parse-timeout-seconds", "--max-generations",
+                           "--max-evaluations", "--max-job-memory-bytes"}) {
     EXPECT_NE(r.output.find(flag), std::string::npos) << flag;
   }
   const auto bad = run_command(std::string(DEPATHD_BIN) + " --max-running-jobs 0 --listen 127.0.0.1:0");
   EXPECT_NE(bad.rc, 0);
   EXPECT_NE(bad.output.find("--max-running-jobs"), std::string::npos) << bad.output;
+}
+
+/// VmRSS of a process in MB (from /proc).
+long rss_mb(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6)) / 1024;
+  return -1;
+}
+
+// Issue 14: uploads whose OBJ names /dev/urandom, /dev/zero or /etc/passwd in mtllib end
+// promptly with the 3-vertex mesh the bytes hold, the server stays SERVING with bounded memory,
+// and bad files and oversized jobs get clear errors naming the problem or the limit.
+TEST_F(BinaryTest, HostileUploadsAndSpecsGetClearErrorsAndTheServerStaysServing) {
+  constexpr int kParseSeconds = 5;
+  Daemon d(dir_, {"--parse-timeout-seconds", std::to_string(kParseSeconds)});
+  // Liveness bound: a parse (and the wait for its slot) is cut at kParseSeconds; wide margin.
+  const std::string limit = "timeout " + std::to_string(static_cast<int>(6 * kParseSeconds * time_scale())) + " ";
+  for (const char* target : {"/dev/urandom", "/dev/zero", "/etc/passwd"}) {
+    const fs::path obj = dir_ / "hostile.obj";
+    std::ofstream(obj) << "mtllib " << target << "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    const auto r = run_command(limit + client("upload --force " + obj.string(), d));
+    EXPECT_EQ(r.rc, 0) << target << ": " << r.output;
+    EXPECT_NE(r.output.find("3 vertices, 1 faces"), std::string::npos) << target << ": " << r.output;
+    const auto normal = run_command(limit + client("upload --force " + mesh_, d));
+    EXPECT_EQ(normal.rc, 0) << normal.output;
+    EXPECT_NE(normal.output.find("400 vertices"), std::string::npos) << normal.output;
+    EXPECT_LT(rss_mb(d.pid()), 512) << "after mtllib " << target;
+  }
+
+  auto expect_refused = [&](const std::string& args, const std::vector<std::string>& words) {
+    const auto r = run_command(limit + client(args, d));
+    EXPECT_NE(r.rc, 0) << args << ": " << r.output;
+    EXPECT_EQ(r.output.find("INTERNAL"), std::string::npos) << r.output;
+    for (const auto& w : words) EXPECT_NE(r.output.find(w), std::string::npos) << args << ": " << r.output;
+  };
+  const fs::path nan_obj = dir_ / "nan.obj";
+  std::ofstream(nan_obj) << "v 0 0 0\nv nan 0 0\nv 0 1 0\nf 1 2 3\n";
+  expect_refused("upload " + nan_obj.string(), {"non-finite coordinate at vertex 1 (line 2)"});
+  const fs::path short_face = dir_ / "short.off";
+  std::ofstream(short_face) << "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n5 0 1 2\n";
+  expect_refused("upload " + short_face.string(), {"face line claiming 5 vertices but giving 3"});
+
+  // A mesh named .txt uploads with --format.
+  const fs::path txt = dir_ / "grid.txt";
+  fs::copy_file(mesh_, txt);
+  expect_refused("upload --force " + txt.string(), {"format"});
+  const auto as_obj = run_command(limit + client("upload --force --format obj " + txt.string(), d));
+  EXPECT_EQ(as_obj.rc, 0) << as_obj.output;
+  EXPECT_NE(as_obj.output.find("400 vertices"), std::string::npos) << as_obj.output;
+  const auto submit_txt =
+      run_command(limit + client("submit --format obj " + txt.string() + " -s 0 -t 399 --population 8 --generations 2", d));
+  EXPECT_EQ(submit_txt.rc, 0) << submit_txt.output;
+  EXPECT_EQ(last_line(submit_txt.output).rfind("job-", 0), 0u) << submit_txt.output;  // prints the job id
+
+  // A PLY of triangle strips: the unit square as one strip 0 1 2 3.
+  const fs::path strips = dir_ / "strips.ply";
+  std::ofstream(strips) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                           "property float z\nelement tristrips 1\nproperty list int int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n0 1 0\n1 1 0\n4 0 1 2 3\n";
+  const auto strip_upload = run_command(limit + client("upload " + strips.string(), d));
+  EXPECT_EQ(strip_upload.rc, 0) << strip_upload.output;
+  EXPECT_NE(strip_upload.output.find("4 vertices, 2 faces"), std::string::npos) << strip_upload.output;
+
+  // Job specs: limits at submit, named.
+  expect_refused("submit " + mesh_ + " -s 0 -t 399 --population 1000000",
+                 {"population 1000000", "--max-job-memory-bytes"});
+  expect_refused("submit " + mesh_ + " -s 0 -t 399 --generations 2000000000", {"--max-generations"});
+  expect_refused("submit " + mesh_ + " -s 0 -t 399 --population 5000 --generations 100000", {"--max-evaluations"});
+  const fs::path zero = dir_ / "zero.density";
+  {
+    std::ofstream out(zero);
+    for (int v = 0; v < 400; ++v) out << (v == 17 ? "0" : "1") << '\n';
+  }
+  expect_refused("submit " + mesh_ + " -s 0 -t 399 --density " + zero.string(),
+                 {"density at vertex 17 is 0: densities must be finite and > 0"});
+
+  const auto health = run_command(limit + client("health", d));
+  EXPECT_EQ(health.rc, 0) << health.output;
+  EXPECT_NE(health.output.find("SERVING"), std::string::npos) << health.output;
+  EXPECT_LT(rss_mb(d.pid()), 512);
 }
 
 TEST_F(BinaryTest, ClientCommandsEndToEnd) {

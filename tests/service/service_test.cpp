@@ -5,6 +5,7 @@
 #include "depath/io/result_writer.hpp"
 #include "depath/solve/solve.hpp"
 #include "event_log.hpp"
+#include "mesh_store.hpp"
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "service_test_support.hpp"
 #include "time_scale.hpp"
@@ -669,6 +670,26 @@ TEST(ServiceEvents, SlowWatcherGetsCoalescedProgressButEveryStateChange) {
   EXPECT_EQ(e2->progress().generation(), 10);
   EXPECT_EQ(log2->next_after(e2->sequence()), nullptr);
   hub.flush();
+}
+
+
+// The store parses within its budget: past the deadline a parse stops with RESOURCE_EXHAUSTED
+// naming the flag (budget 0: the deadline has passed by the reader's first check), and a
+// failed parse leaves the store usable.
+TEST(ServiceMeshStore, ParseBudgetStopsAParseWithResourceExhausted) {
+  service::Log log("text", "off");
+  service::MeshStore store(1ull << 30, "", log, service::ParseLimits{1, 0.0});
+  const std::string big = grid_obj(100);  // 10,000 vertices: past the reader's first deadline check
+  try {
+    (void)store.add(std::string(64, 'a'), "big.obj", "obj", big);
+    ADD_FAILURE() << "parse budget ignored";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ErrorCode::resource_exhausted) << e.what();
+    EXPECT_NE(std::string(e.what()).find("--parse-timeout-seconds"), std::string::npos) << e.what();
+  }
+  service::MeshStore roomy(1ull << 30, "", log, service::ParseLimits{1, 600.0});
+  EXPECT_EQ(roomy.add(std::string(64, 'a'), "big.obj", "obj", big).num_vertices(), 10000);
+  EXPECT_EQ(roomy.add(std::string(64, 'b'), "small.obj", "obj", grid_obj(3)).num_vertices(), 9);
 }
 
 }  // namespace

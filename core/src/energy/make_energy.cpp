@@ -8,6 +8,7 @@
 #include "energy/vector_field.hpp"
 
 #include <cmath>
+#include <sstream>
 #include <string>
 
 namespace depath {
@@ -25,11 +26,21 @@ void check_density(const Mesh& mesh, const std::vector<double>& density) {
     throw Error(ErrorCode::invalid_argument, "density has " + std::to_string(density.size()) +
                                                  " values but the mesh has " +
                                                  std::to_string(mesh.num_vertices()) + " vertices");
+  // Fast marching squares densities and multiplies them by squared edge lengths: past this
+  // range arrival times overflow or vanish and every target looks unreachable ("no path").
+  constexpr double kMinDensity = 1e-100, kMaxDensity = 1e100;
   for (size_t v = 0; v < density.size(); ++v) {
-    if (!std::isfinite(density[v]) || density[v] < 0.0)
-      throw Error(ErrorCode::invalid_argument, "density at vertex " + std::to_string(v) + " is " +
-                                                   std::to_string(density[v]) +
-                                                   ": densities must be finite and >= 0");
+    const double d = density[v];
+    if (std::isfinite(d) && d >= kMinDensity && d <= kMaxDensity) continue;
+    std::ostringstream value;
+    value << d;
+    if (!std::isfinite(d) || d <= 0.0)
+      throw Error(ErrorCode::invalid_argument, "density at vertex " + std::to_string(v) + " is " + value.str() +
+                                                   ": densities must be finite and > 0");
+    throw Error(ErrorCode::invalid_argument,
+                  "density at vertex " + std::to_string(v) + " is " + value.str() +
+                      ": densities must lie in [1e-100, 1e100], beyond that the arrival times overflow or "
+                      "underflow (only ratios of densities matter: rescale the field)");
   }
 }
 

@@ -77,7 +77,7 @@ const char* energy_kind_name(EnergyKind kind);
 /// Everything needed to build an energy for a mesh.
 struct EnergySpec {
   EnergyKind kind = EnergyKind::geodesic;
-  /// geodesic: per-vertex density (>= 0, finite); empty means 1 everywhere.
+  /// geodesic: per-vertex density (> 0, within [1e-100, 1e100]); empty means 1 everywhere.
   std::vector<double> density;
   /// vector_field: per-vertex 3D vectors (projected onto each face's plane).
   std::vector<Vec3> field;
@@ -95,7 +95,7 @@ struct EnergySpec {
 };
 
 /// Builds the energy; throws Error(invalid_argument) naming the problem (wrong array
-/// length, negative or non-finite density, missing field, negative slope, ...).
+/// length, density not in [1e-100, 1e100] (zero, negative, non-finite), missing field, negative slope, ...).
 std::unique_ptr<Energy> make_energy(const Mesh& mesh, const EnergySpec& spec);
 
 }  // namespace depath

@@ -20,6 +20,10 @@ std::unique_ptr<Strategy> make_strategy(const DeSettings& settings, int populati
               "unknown DE strategy '" + settings.strategy + "' (valid strategies: " + names + ")");
 }
 
+void Strategy::load(std::span<const double> in) {
+  if (!in.empty()) throw Error(ErrorCode::invalid_argument, "checkpoint has strategy memory this strategy does not keep");
+}
+
 void pick_distinct(DeRandom& rng, int n, std::span<const int> exclude, std::span<int> out) {
   for (size_t k = 0; k < out.size(); ++k) {
     for (;;) {

@@ -509,7 +509,7 @@ void JobManager::execute(Running& run, const JobRecord& job) {
     std::lock_guard lock(mutex_);
     cancelled_by_client = run.cancel.load() && run.cancel_message == "cancelled by client";
   }
-  if (run.suspend.load() && state != v1::JOB_STATE_SUCCEEDED && !cancelled_by_client) {
+  if (run.suspend.load() && (stop_reason == "suspended" || (state != v1::JOB_STATE_SUCCEEDED && !cancelled_by_client))) {
     // Shutting down on a durable store: the checkpoint is saved, the job resumes later.
     store_.release(job.id, replica_);
     log_.info("job.suspended", {{"job", job.id}, {"stop_reason", stop_reason}});

@@ -1,14 +1,15 @@
 #include "job_manager.hpp"
 
+#include <algorithm>
+#include <cstdio>
+#include <future>
+#include <random>
+
 #include "depath/de_checkpoint.hpp"
 #include "depath/error.hpp"
 #include "depath/solve.hpp"
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
-
-#include <algorithm>
-#include <cstdio>
-#include <random>
 
 namespace depath::service {
 
@@ -67,7 +68,13 @@ struct JobManager::Running {
 
 JobManager::JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub,
                        ThreadPool& pool, Log& log)
-    : options_(options), store_(store), meshes_(meshes), hub_(hub), pool_(pool), log_(log), replica_(random_hex(8)) {
+    : options_(options),
+      store_(store),
+      meshes_(meshes),
+      hub_(hub),
+      pool_(pool),
+      log_(log),
+      replica_(random_hex(8)) {
   const int drivers = std::max(1, options_.max_running_jobs);
   for (int i = 0; i < drivers; ++i) drivers_.emplace_back([this] { driver_loop(); });
   heartbeat_ = std::thread([this] { heartbeat_loop(); });
@@ -95,7 +102,8 @@ JobRecord JobManager::find(const std::string& job_id) {
                            std::to_string(static_cast<long long>(options_.job_ttl_seconds)) +
                            " s (--job-ttl-seconds)");
   }
-  throw ServiceError(grpc::StatusCode::NOT_FOUND, "job '" + job_id + "' not found: no job with this id was submitted to this store");
+  throw ServiceError(grpc::StatusCode::NOT_FOUND,
+                     "job '" + job_id + "' not found: no job with this id was submitted to this store");
 }
 
 v1::JobInfo JobManager::info_of(const JobRecord& job, int queue_position) {
@@ -141,18 +149,21 @@ v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request) {
     }
     v1::SubmitJobResponse reply;
     reply.set_job_id(job.id);
-    *reply.mutable_job() = info_of(job, job.state == v1::JOB_STATE_QUEUED ? store_.queue_position(job.number) : 0);
+    *reply.mutable_job() =
+        info_of(job, job.state == v1::JOB_STATE_QUEUED ? store_.queue_position(job.number) : 0);
     reply.set_existing(true);
     return reply;
   };
   {
     std::lock_guard lock(mutex_);
-    if (stopping_) throw ServiceError(grpc::StatusCode::UNAVAILABLE, "server is shutting down; not accepting new jobs");
+    if (stopping_)
+      throw ServiceError(grpc::StatusCode::UNAVAILABLE, "server is shutting down; not accepting new jobs");
   }
   if (!request.client_request_id().empty()) {
     if (auto job = store_.find_request(request.client_request_id())) return existing_reply(*job);
   }
-  if (request.spec().mesh_id().empty()) throw Error(ErrorCode::invalid_argument, "the job spec has no mesh_id");
+  if (request.spec().mesh_id().empty())
+    throw Error(ErrorCode::invalid_argument, "the job spec has no mesh_id");
   JobSpec spec = wire::job_from_proto(request.spec());
   auto lease = meshes_.acquire(request.spec().mesh_id());
   validate_job(lease->mesh(), spec);
@@ -160,7 +171,8 @@ v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request) {
   int free_drivers;
   {
     std::lock_guard lock(mutex_);
-    if (stopping_) throw ServiceError(grpc::StatusCode::UNAVAILABLE, "server is shutting down; not accepting new jobs");
+    if (stopping_)
+      throw ServiceError(grpc::StatusCode::UNAVAILABLE, "server is shutting down; not accepting new jobs");
     free_drivers = std::max(0, std::max(1, options_.max_running_jobs) - busy_);
   }
   const auto waiting = store_.count_queued();
@@ -207,7 +219,8 @@ v1::JobResult JobManager::result(const std::string& job_id) {
     if (auto result = store_.get_result(job_id)) return *result;
   }
   if (job.state == v1::JOB_STATE_FAILED) {
-    throw ServiceError(static_cast<grpc::StatusCode>(job.error_code), "job " + job_id + " failed: " + job.error_message);
+    throw ServiceError(static_cast<grpc::StatusCode>(job.error_code),
+                       "job " + job_id + " failed: " + job.error_message);
   }
   if (job.state == v1::JOB_STATE_CANCELLED) {
     throw ServiceError(grpc::StatusCode::FAILED_PRECONDITION,
@@ -361,8 +374,10 @@ bool JobManager::emit(Running& run, v1::JobEvent event, bool persist) {
       return false;
     }
     if (event.has_progress()) {
-      if (persist) run.unstored_progress.reset();
-      else run.unstored_progress = event;
+      if (persist)
+        run.unstored_progress.reset();
+      else
+        run.unstored_progress = event;
     }
   } catch (const StoreError& e) {
     log_.warn("store.error", {{"job", run.id}, {"reason", e.what()}});
@@ -429,8 +444,9 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   }
   std::string message = "running";
   if (job.state == v1::JOB_STATE_RUNNING) {
-    message = resumed_generation >= 0 ? "resumed from its checkpoint after generation " + std::to_string(resumed_generation)
-                                      : "restarted from the beginning (no checkpoint yet)";
+    message = resumed_generation >= 0
+                  ? "resumed from its checkpoint after generation " + std::to_string(resumed_generation)
+                  : "restarted from the beginning (no checkpoint yet)";
   }
   if (!emit(run, state_event(v1::JOB_STATE_RUNNING, 0, message), true)) return;
   log_.info(job.state == v1::JOB_STATE_RUNNING ? "job.resumed" : "job.started",
@@ -441,23 +457,45 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   hooks.resume_from = std::move(checkpoint);
   hooks.is_cancelled = [r = &run] { return r->cancel.load(std::memory_order_relaxed); };
   hooks.suspend = [r = &run] { return r->suspend.load(std::memory_order_relaxed); };
+  // Checkpoints are written on a thread of their own while the DE goes on: the run pays only
+  // for copying its state out (a 167 MB checkpoint takes seconds to store, ~0.1 s to copy).
   auto last_checkpoint = std::chrono::steady_clock::now();
   const bool checkpoints = options_.checkpoint_seconds > 0 && store_.durable();
-  hooks.checkpoint_due = [&] {
-    return checkpoints && std::chrono::steady_clock::now() - last_checkpoint >= seconds(options_.checkpoint_seconds);
+  std::future<void> writing;
+  auto write_done = [&] {
+    return !writing.valid() || writing.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
   };
-  hooks.on_checkpoint = [&](const std::string& bytes) {
+  hooks.checkpoint_due = [&] {
+    return checkpoints && write_done() &&
+           std::chrono::steady_clock::now() - last_checkpoint >= seconds(options_.checkpoint_seconds);
+  };
+  hooks.on_checkpoint = [&](std::string bytes) {
     last_checkpoint = std::chrono::steady_clock::now();
     if (!store_.durable() || run.lost.load()) return;
-    try {
-      const int generation = decode_de_state(bytes).generation;
-      if (!store_.put_checkpoint(job.id, replica_, generation, bytes)) {
-        run.lost.store(true);
-        run.cancel.store(true);
-      }
-    } catch (const std::exception& e) {
-      log_.warn("job.checkpoint_failed", {{"job", job.id}, {"reason", e.what()}});
+    int generation = 0;  // the checkpoint is taken before the generation after the last reported one
+    {
+      std::lock_guard lock(mutex_);
+      if (run.last_progress) generation = run.last_progress->generation();
     }
+    if (generation == 0) generation = std::max(0, resumed_generation);
+    if (writing.valid()) writing.get();  // a suspend's checkpoint follows the one being written
+    writing = std::async(std::launch::async, [this, &run, id = job.id, generation, bytes = std::move(bytes)] {
+      const auto t0 = std::chrono::steady_clock::now();
+      try {
+        if (!store_.put_checkpoint(id, replica_, generation, bytes)) {
+          run.lost.store(true);
+          run.cancel.store(true);
+        }
+        log_.debug(
+            "job.checkpointed",
+            {{"job", id},
+             {"generation", generation},
+             {"bytes", bytes.size()},
+             {"seconds", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()}});
+      } catch (const std::exception& e) {
+        log_.warn("job.checkpoint_failed", {{"job", id}, {"reason", e.what()}});
+      }
+    });
   };
   const double persist_every = store_.shared() ? kSharedProgressSeconds : kLocalProgressSeconds;
   auto last_persist = std::chrono::steady_clock::time_point{};
@@ -500,8 +538,10 @@ void JobManager::execute(Running& run, const JobRecord& job) {
     code = static_cast<int>(grpc::StatusCode::INTERNAL);
     error = std::string("internal error: ") + e.what();
   }
+  if (writing.valid()) writing.get();  // stored before the job is handed back or finished
   if (run.lost.load()) {
-    log_.warn("job.lease_lost", {{"job", job.id}, {"reason", "another replica took the job over; this run stops"}});
+    log_.warn("job.lease_lost",
+              {{"job", job.id}, {"reason", "another replica took the job over; this run stops"}});
     return;
   }
   bool cancelled_by_client;
@@ -509,7 +549,8 @@ void JobManager::execute(Running& run, const JobRecord& job) {
     std::lock_guard lock(mutex_);
     cancelled_by_client = run.cancel.load() && run.cancel_message == "cancelled by client";
   }
-  if (run.suspend.load() && (stop_reason == "suspended" || (state != v1::JOB_STATE_SUCCEEDED && !cancelled_by_client))) {
+  if (run.suspend.load() &&
+      (stop_reason == "suspended" || (state != v1::JOB_STATE_SUCCEEDED && !cancelled_by_client))) {
     // Shutting down on a durable store: the checkpoint is saved, the job resumes later.
     store_.release(job.id, replica_);
     log_.info("job.suspended", {{"job", job.id}, {"stop_reason", stop_reason}});
@@ -545,11 +586,13 @@ void JobManager::finish(Running& run, v1::JobState state, int code, const std::s
   std::vector<v1::JobEvent> stored = events;
   if (run.unstored_progress) stored.insert(stored.begin(), *run.unstored_progress);
   if (run.lost.load() || !store_.finish(run.id, replica_, result.get(), stored)) {
-    log_.warn("job.lease_lost", {{"job", run.id}, {"reason", "finished elsewhere or taken over; result dropped"}});
+    log_.warn("job.lease_lost",
+              {{"job", run.id}, {"reason", "finished elsewhere or taken over; result dropped"}});
     return;
   }
   for (auto& ev : events) run.log->publish(std::move(ev));
-  nlohmann::json fields = {{"job", run.id}, {"state", wire::state_name(state)}, {"seconds", now - run.started}};
+  nlohmann::json fields = {
+      {"job", run.id}, {"state", wire::state_name(state)}, {"seconds", now - run.started}};
   if (result) {
     fields["energy"] = result->energy();
     fields["generations"] = result->generations();
@@ -557,8 +600,10 @@ void JobManager::finish(Running& run, v1::JobState state, int code, const std::s
     fields["stop_reason"] = result->stop_reason();
   }
   if (!message.empty() && state != v1::JOB_STATE_SUCCEEDED) fields["reason"] = message;
-  if (state == v1::JOB_STATE_FAILED) log_.warn("job.finished", fields);
-  else log_.info("job.finished", fields);
+  if (state == v1::JOB_STATE_FAILED)
+    log_.warn("job.finished", fields);
+  else
+    log_.info("job.finished", fields);
 }
 
 // ---- lifecycle ----------------------------------------------------------------------------
@@ -625,8 +670,8 @@ void JobManager::heartbeat_loop() {
   // Leases are renewed well before they run out; on a shared store this is also how a
   // cancel made on another replica reaches the runner, and how watchers here follow jobs
   // running elsewhere.
-  const double period =
-      store_.shared() ? std::clamp(options_.lease_seconds / 5, 0.05, 0.2) : std::min(1.0, options_.lease_seconds / 3);
+  const double period = store_.shared() ? std::clamp(options_.lease_seconds / 5, 0.05, 0.2)
+                                        : std::min(1.0, options_.lease_seconds / 3);
   const double reap_every = std::clamp(options_.job_ttl_seconds / 2 + 0.01, 0.01, 1.0);
   auto last_reap = std::chrono::steady_clock::now();
   std::unique_lock lock(mutex_);

@@ -13,14 +13,6 @@
 // is cancelled (nothing would survive).
 #pragma once
 
-#include "depath/thread_pool.hpp"
-#include "depath/v1/job.pb.h"
-#include "event_log.hpp"
-#include "log.hpp"
-#include "mesh_store.hpp"
-#include "options.hpp"
-#include "store/job_store.hpp"
-
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -32,12 +24,20 @@
 #include <thread>
 #include <vector>
 
+#include "depath/thread_pool.hpp"
+#include "depath/v1/job.pb.h"
+#include "event_log.hpp"
+#include "log.hpp"
+#include "mesh_store.hpp"
+#include "options.hpp"
+#include "store/job_store.hpp"
+
 namespace depath::service {
 
 class JobManager {
  public:
-  JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub, ThreadPool& pool,
-             Log& log);
+  JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub,
+             ThreadPool& pool, Log& log);
   ~JobManager();  ///< stops (as begin_shutdown) and joins the threads
   JobManager(const JobManager&) = delete;
   JobManager& operator=(const JobManager&) = delete;
@@ -87,11 +87,11 @@ class JobManager {
   std::mutex mutex_;
   std::condition_variable work_, idle_, beat_wake_;
   std::map<std::string, std::shared_ptr<Running>> running_;
-  std::map<std::string, std::weak_ptr<EventLog>> logs_;    // logs someone holds (watchers, runners)
+  std::map<std::string, std::weak_ptr<EventLog>> logs_;     // logs someone holds (watchers, runners)
   std::map<std::string, std::shared_ptr<MeshLease>> pins_;  // meshes of jobs submitted here, until they run
-  int busy_ = 0;           // drivers between claim and the end of the run
-  bool stopping_ = false;  // shutting down: refuse new jobs, claim nothing
-  bool exiting_ = false;   // threads must exit
+  int busy_ = 0;                                            // drivers between claim and the end of the run
+  bool stopping_ = false;                                   // shutting down: refuse new jobs, claim nothing
+  bool exiting_ = false;                                    // threads must exit
   std::vector<std::thread> drivers_;
   std::thread heartbeat_;
 };

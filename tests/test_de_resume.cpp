@@ -2,15 +2,15 @@
 // simply abandoned after a checkpoint, as a killed server would) and resumed from its
 // checkpoint ends bit-identical to the uninterrupted run: same points, same energy, same
 // generation and evaluation counts.
+#include <gtest/gtest.h>
+
+#include <map>
+
 #include "depath/de_checkpoint.hpp"
 #include "depath/error.hpp"
 #include "depath/mesh_io.hpp"
 #include "depath/solve.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
-
-#include <map>
 
 namespace depath {
 namespace {
@@ -55,7 +55,8 @@ void check_resume_everywhere(const Mesh& mesh, const JobSpec& job, int stride) {
     if (generation % stride != 0 && generation != job.de.generations - 1) continue;
     SolveHooks resume;
     resume.resume_from = bytes;
-    expect_same(full, solve(mesh, job, resume), job.de.strategy + " resumed after generation " + std::to_string(generation));
+    expect_same(full, solve(mesh, job, resume),
+                job.de.strategy + " resumed after generation " + std::to_string(generation));
   }
 }
 

@@ -2,10 +2,10 @@
 // their raw little-endian bytes (bit-exact doubles), vectors prefixed by their length.
 #include "depath/de_checkpoint.hpp"
 
-#include "depath/error.hpp"
-
 #include <bit>
 #include <cstring>
+
+#include "depath/error.hpp"
 
 namespace depath {
 
@@ -111,7 +111,8 @@ DeState decode_de_state(std::string_view bytes) {
   Reader r(bytes.substr(sizeof kMagic));
   const auto version = r.get<uint32_t>();
   if (version != kVersion) {
-    Reader::fail("format version " + std::to_string(version) + ", this build reads " + std::to_string(kVersion));
+    Reader::fail("format version " + std::to_string(version) + ", this build reads " +
+                 std::to_string(kVersion));
   }
   DeState s;
   s.population = r.get<int32_t>();
@@ -134,8 +135,8 @@ DeState decode_de_state(std::string_view bytes) {
   const auto N = static_cast<size_t>(std::max(0, s.population));
   const auto n = static_cast<size_t>(std::max(0, s.dimension));
   if (s.population < 4 || s.dimension < 1 || s.agents.size() != N * n || s.energies.size() != N ||
-      s.best_index < -1 || s.best_index >= s.population || (s.best_index < 0 && !s.saved_best.empty() && s.saved_best.size() != n) ||
-      s.generation < 0) {
+      s.best_index < -1 || s.best_index >= s.population ||
+      (s.best_index < 0 && !s.saved_best.empty() && s.saved_best.size() != n) || s.generation < 0) {
     Reader::fail("inconsistent sizes");
   }
   return s;

@@ -55,7 +55,8 @@ std::string dialect_sql(std::string sql, SqlDialect d) {
     }
   };
   replace("{BLOB}", d == SqlDialect::sqlite ? "BLOB" : "BYTEA");
-  replace("{SERIAL}", d == SqlDialect::sqlite ? "INTEGER PRIMARY KEY AUTOINCREMENT" : "BIGSERIAL PRIMARY KEY");
+  replace("{SERIAL}",
+          d == SqlDialect::sqlite ? "INTEGER PRIMARY KEY AUTOINCREMENT" : "BIGSERIAL PRIMARY KEY");
   return sql;
 }
 
@@ -94,7 +95,8 @@ JobRecord job_from_row(const SqlRow& r) {
 }
 
 bool terminal(int state) {
-  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED || state == v1::JOB_STATE_CANCELLED;
+  return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED ||
+         state == v1::JOB_STATE_CANCELLED;
 }
 
 }  // namespace
@@ -102,7 +104,10 @@ bool terminal(int state) {
 int job_store_schema_version() { return kSchemaVersion; }
 
 JobStore::JobStore(std::unique_ptr<SqlDatabase> db, std::string description, bool durable, bool keeps_meshes)
-    : db_(std::move(db)), description_(std::move(description)), durable_(durable), keeps_meshes_(keeps_meshes) {
+    : db_(std::move(db)),
+      description_(std::move(description)),
+      durable_(durable),
+      keeps_meshes_(keeps_meshes) {
   migrate();
   if (db_->dialect() == SqlDialect::sqlite) {
     // One process owns a SQLite store (its lock file): leases of an earlier process are
@@ -120,7 +125,8 @@ std::unique_ptr<JobStore> JobStore::open(const std::string& uri) {
     std::error_code ec;
     const auto parent = std::filesystem::path(path).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent, ec);
-    if (ec) throw StoreError("cannot create the directory " + parent.string() + " for the store: " + ec.message());
+    if (ec)
+      throw StoreError("cannot create the directory " + parent.string() + " for the store: " + ec.message());
     return std::make_unique<JobStore>(open_sqlite(path), "sqlite:" + path, true, true);
   }
   if (uri.rfind("postgresql://", 0) == 0 || uri.rfind("postgres://", 0) == 0) {
@@ -156,9 +162,10 @@ void JobStore::migrate() {
 void JobStore::put_mesh(const StoredMesh& m) {
   if (!keeps_meshes_) return;
   auto s = db_->session();
-  s->exec("INSERT INTO meshes (id, name, format, size_bytes, bytes, created) VALUES ($1, $2, $3, $4, $5, $6) "
-          "ON CONFLICT (id) DO NOTHING",
-          {m.id, m.name, m.format, static_cast<int64_t>(m.bytes.size()), sql_blob(m.bytes), now_unix()});
+  s->exec(
+      "INSERT INTO meshes (id, name, format, size_bytes, bytes, created) VALUES ($1, $2, $3, $4, $5, $6) "
+      "ON CONFLICT (id) DO NOTHING",
+      {m.id, m.name, m.format, static_cast<int64_t>(m.bytes.size()), sql_blob(m.bytes), now_unix()});
 }
 
 std::optional<StoredMesh> JobStore::get_mesh(const std::string& id) {
@@ -180,7 +187,8 @@ std::vector<StoredMesh> JobStore::list_meshes() {
   if (!keeps_meshes_) return out;
   auto s = db_->session();
   for (const auto& r : s->exec("SELECT id, name, format, size_bytes FROM meshes ORDER BY created").rows) {
-    out.push_back({sql_string(r[0]), sql_string(r[1]), sql_string(r[2]), static_cast<uint64_t>(sql_int(r[3])), {}});
+    out.push_back(
+        {sql_string(r[0]), sql_string(r[1]), sql_string(r[2]), static_cast<uint64_t>(sql_int(r[3])), {}});
   }
   return out;
 }
@@ -210,11 +218,13 @@ std::pair<JobRecord, bool> JobStore::insert_job(const JobRecord& job, v1::JobEve
   try {
     auto s = db_->session();
     SqlTransaction tx(*s, db_->dialect());
-    auto rows = s->exec("INSERT INTO jobs (id, request_id, mesh_id, spec, state, created, last_sequence, seq_reserved) "
-                        "VALUES ($1, $2, $3, $4, $5, $6, 1, 1) RETURNING number",
-                        {job.id, sql_text_or_null(job.request_id), job.mesh_id, sql_blob(job.spec.SerializeAsString()),
-                         static_cast<int>(v1::JOB_STATE_QUEUED), job.created})
-                    .rows;
+    auto rows =
+        s->exec(
+             "INSERT INTO jobs (id, request_id, mesh_id, spec, state, created, last_sequence, seq_reserved) "
+             "VALUES ($1, $2, $3, $4, $5, $6, 1, 1) RETURNING number",
+             {job.id, sql_text_or_null(job.request_id), job.mesh_id, sql_blob(job.spec.SerializeAsString()),
+              static_cast<int>(v1::JOB_STATE_QUEUED), job.created})
+            .rows;
     s->exec("INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, 1, 0, $2)",
             {job.id, sql_blob(queued.SerializeAsString())});
     tx.commit();
@@ -234,7 +244,8 @@ std::pair<JobRecord, bool> JobStore::insert_job(const JobRecord& job, v1::JobEve
 
 std::optional<JobRecord> JobStore::find_request(const std::string& request_id) {
   auto s = db_->session();
-  auto rows = s->exec(std::string("SELECT ") + kJobColumns + " FROM jobs WHERE request_id = $1", {request_id}).rows;
+  auto rows =
+      s->exec(std::string("SELECT ") + kJobColumns + " FROM jobs WHERE request_id = $1", {request_id}).rows;
   if (rows.empty()) return std::nullopt;
   return job_from_row(rows[0]);
 }
@@ -255,7 +266,9 @@ std::vector<JobRecord> JobStore::list_jobs(const std::string& mesh_id) {
   if (mesh_id.empty()) {
     rows = s->exec(std::string("SELECT ") + kJobColumns + " FROM jobs ORDER BY number").rows;
   } else {
-    rows = s->exec(std::string("SELECT ") + kJobColumns + " FROM jobs WHERE mesh_id = $1 ORDER BY number", {mesh_id}).rows;
+    rows = s->exec(std::string("SELECT ") + kJobColumns + " FROM jobs WHERE mesh_id = $1 ORDER BY number",
+                   {mesh_id})
+               .rows;
   }
   std::vector<JobRecord> out;
   out.reserve(rows.size());
@@ -282,8 +295,9 @@ int JobStore::queue_position(int64_t number) {
 std::optional<JobRecord> JobStore::claim(const std::string& owner, double now, double lease_seconds) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
-  std::string sql = std::string("SELECT ") + kJobColumns +
-                    " FROM jobs WHERE state IN (1, 2) AND (owner IS NULL OR lease_until < $1) ORDER BY number LIMIT 1";
+  std::string sql =
+      std::string("SELECT ") + kJobColumns +
+      " FROM jobs WHERE state IN (1, 2) AND (owner IS NULL OR lease_until < $1) ORDER BY number LIMIT 1";
   if (db_->dialect() == SqlDialect::postgresql) sql += " FOR UPDATE SKIP LOCKED";
   auto rows = s->exec(sql, {now}).rows;
   if (rows.empty()) return std::nullopt;
@@ -297,19 +311,21 @@ std::optional<JobRecord> JobStore::claim(const std::string& owner, double now, d
   return job;
 }
 
-JobStore::Heartbeat JobStore::heartbeat(const std::string& owner, const std::vector<std::string>& ids, double now,
-                                        double lease_seconds) {
+JobStore::Heartbeat JobStore::heartbeat(const std::string& owner, const std::vector<std::string>& ids,
+                                        double now, double lease_seconds) {
   Heartbeat beat;
   if (ids.empty()) return beat;
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
   for (const auto& id : ids) {
-    if (s->exec("UPDATE jobs SET lease_until = $1 WHERE id = $2 AND owner = $3", {now + lease_seconds, id, owner})
+    if (s->exec("UPDATE jobs SET lease_until = $1 WHERE id = $2 AND owner = $3",
+                {now + lease_seconds, id, owner})
             .affected == 0) {
       beat.lost.push_back(id);
     }
   }
-  for (const auto& r : s->exec("SELECT id FROM jobs WHERE owner = $1 AND cancel_requested <> 0", {owner}).rows) {
+  for (const auto& r :
+       s->exec("SELECT id FROM jobs WHERE owner = $1 AND cancel_requested <> 0", {owner}).rows) {
     beat.cancel.push_back(sql_string(r[0]));
   }
   tx.commit();
@@ -332,21 +348,24 @@ bool JobStore::append_event(const std::string& id, const std::string& owner, con
   if (event.has_progress()) {
     v1::Progress summary = event.progress();
     summary.clear_best_path();
-    changed = s->exec("UPDATE jobs SET progress = $1, last_sequence = CASE WHEN last_sequence < $2 THEN $2 ELSE "
-                      "last_sequence END WHERE id = $3 AND owner = $4",
-                      {sql_blob(summary.SerializeAsString()), seq, id, owner})
+    changed = s->exec(
+                   "UPDATE jobs SET progress = $1, last_sequence = CASE WHEN last_sequence < $2 THEN $2 ELSE "
+                   "last_sequence END WHERE id = $3 AND owner = $4",
+                   {sql_blob(summary.SerializeAsString()), seq, id, owner})
                   .affected;
     if (changed) s->exec("DELETE FROM events WHERE job_id = $1 AND progress <> 0", {id});
   } else if (event.has_state()) {
-    changed = s->exec("UPDATE jobs SET state = $1, started = CASE WHEN started = 0 THEN $2 ELSE started END, "
-                      "last_sequence = CASE WHEN last_sequence < $3 THEN $3 ELSE last_sequence END "
-                      "WHERE id = $4 AND owner = $5",
-                      {static_cast<int>(event.state().state()), event.time_unix(), seq, id, owner})
+    changed = s->exec(
+                   "UPDATE jobs SET state = $1, started = CASE WHEN started = 0 THEN $2 ELSE started END, "
+                   "last_sequence = CASE WHEN last_sequence < $3 THEN $3 ELSE last_sequence END "
+                   "WHERE id = $4 AND owner = $5",
+                   {static_cast<int>(event.state().state()), event.time_unix(), seq, id, owner})
                   .affected;
   }
   if (changed == 0) return false;
-  s->exec("INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
-          {id, seq, event.has_progress() ? 1 : 0, sql_blob(event.SerializeAsString())});
+  s->exec(
+      "INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
+      {id, seq, event.has_progress() ? 1 : 0, sql_blob(event.SerializeAsString())});
   tx.commit();
   return true;
 }
@@ -356,10 +375,11 @@ bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, i
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
   if (s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty()) return false;
-  s->exec("INSERT INTO checkpoints (job_id, generation, saved, body) VALUES ($1, $2, $3, $4) "
-          "ON CONFLICT (job_id) DO UPDATE SET generation = excluded.generation, saved = excluded.saved, "
-          "body = excluded.body",
-          {id, generation, now_unix(), sql_blob(bytes)});
+  s->exec(
+      "INSERT INTO checkpoints (job_id, generation, saved, body) VALUES ($1, $2, $3, $4) "
+      "ON CONFLICT (job_id) DO UPDATE SET generation = excluded.generation, saved = excluded.saved, "
+      "body = excluded.body",
+      {id, generation, now_unix(), sql_blob(bytes)});
   tx.commit();
   return true;
 }
@@ -369,7 +389,8 @@ std::optional<v1::JobResult> JobStore::get_result(const std::string& id) {
   auto rows = s->exec("SELECT body FROM results WHERE job_id = $1", {id}).rows;
   if (rows.empty()) return std::nullopt;
   v1::JobResult result;
-  if (!result.ParseFromString(sql_string(rows[0][0]))) throw StoreError("job " + id + ": the stored result is damaged");
+  if (!result.ParseFromString(sql_string(rows[0][0])))
+    throw StoreError("job " + id + ": the stored result is damaged");
   return result;
 }
 
@@ -386,12 +407,14 @@ bool JobStore::finish(const std::string& id, const std::string& owner, const v1:
   auto job = get_job_in(*s, id, true);
   if (!job || job->owner != owner || terminal(job->state)) return false;
   const v1::JobEvent& last = events.back();  // the terminal state event
-  s->exec("UPDATE jobs SET state = $1, finished = $2, error_code = $3, error_message = $4, has_result = $5, "
-          "last_sequence = $6, owner = NULL, lease_until = 0, started = CASE WHEN started = 0 THEN $2 ELSE started END "
-          "WHERE id = $7",
-          {static_cast<int>(last.state().state()), last.time_unix(), last.state().error_code(),
-           last.state().state() == v1::JOB_STATE_SUCCEEDED ? std::string() : last.state().message(),
-           result ? 1 : 0, static_cast<int64_t>(last.sequence()), id});
+  s->exec(
+      "UPDATE jobs SET state = $1, finished = $2, error_code = $3, error_message = $4, has_result = $5, "
+      "last_sequence = $6, owner = NULL, lease_until = 0, started = CASE WHEN started = 0 THEN $2 ELSE "
+      "started END "
+      "WHERE id = $7",
+      {static_cast<int>(last.state().state()), last.time_unix(), last.state().error_code(),
+       last.state().state() == v1::JOB_STATE_SUCCEEDED ? std::string() : last.state().message(),
+       result ? 1 : 0, static_cast<int64_t>(last.sequence()), id});
   if (result) {
     s->exec("INSERT INTO results (job_id, body) VALUES ($1, $2) ON CONFLICT (job_id) DO NOTHING",
             {id, sql_blob(result->SerializeAsString())});
@@ -403,8 +426,10 @@ bool JobStore::finish(const std::string& id, const std::string& owner, const v1:
       s->exec("DELETE FROM events WHERE job_id = $1 AND progress <> 0", {id});
       s->exec("UPDATE jobs SET progress = $1 WHERE id = $2", {sql_blob(summary.SerializeAsString()), id});
     }
-    s->exec("INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
-            {id, static_cast<int64_t>(e.sequence()), e.has_progress() ? 1 : 0, sql_blob(e.SerializeAsString())});
+    s->exec(
+        "INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, $3, $4) ON CONFLICT DO "
+        "NOTHING",
+        {id, static_cast<int64_t>(e.sequence()), e.has_progress() ? 1 : 0, sql_blob(e.SerializeAsString())});
   }
   s->exec("DELETE FROM checkpoints WHERE job_id = $1", {id});
   tx.commit();
@@ -425,10 +450,11 @@ CancelOutcome JobStore::cancel(const std::string& id, v1::JobEvent event) {
     const uint64_t seq = std::max(job->last_sequence, job->seq_reserved) + 1;
     event.set_job_id(id);
     event.set_sequence(seq);
-    s->exec("UPDATE jobs SET state = $1, finished = $2, error_code = $3, error_message = $4, last_sequence = $5, "
-            "seq_reserved = $5 WHERE id = $6",
-            {static_cast<int>(v1::JOB_STATE_CANCELLED), event.time_unix(), kCancelledCode, event.state().message(),
-             static_cast<int64_t>(seq), id});
+    s->exec(
+        "UPDATE jobs SET state = $1, finished = $2, error_code = $3, error_message = $4, last_sequence = $5, "
+        "seq_reserved = $5 WHERE id = $6",
+        {static_cast<int>(v1::JOB_STATE_CANCELLED), event.time_unix(), kCancelledCode,
+         event.state().message(), static_cast<int64_t>(seq), id});
     s->exec("INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, 0, $3)",
             {id, static_cast<int64_t>(seq), sql_blob(event.SerializeAsString())});
     tx.commit();
@@ -442,9 +468,10 @@ CancelOutcome JobStore::cancel(const std::string& id, v1::JobEvent event) {
 std::vector<v1::JobEvent> JobStore::events_after(const std::string& id, uint64_t after) {
   auto s = db_->session();
   std::vector<v1::JobEvent> out;
-  for (const auto& r : s->exec("SELECT body FROM events WHERE job_id = $1 AND sequence > $2 ORDER BY sequence",
-                               {id, static_cast<int64_t>(after)})
-                           .rows) {
+  for (const auto& r :
+       s->exec("SELECT body FROM events WHERE job_id = $1 AND sequence > $2 ORDER BY sequence",
+               {id, static_cast<int64_t>(after)})
+           .rows) {
     v1::JobEvent e;
     if (!e.ParseFromString(sql_string(r[0]))) throw StoreError("job " + id + ": a stored event is damaged");
     out.push_back(std::move(e));
@@ -455,9 +482,10 @@ std::vector<v1::JobEvent> JobStore::events_after(const std::string& id, uint64_t
 int JobStore::expire(double before) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
-  auto rows = s->exec("SELECT id FROM jobs WHERE state IN (3, 4, 5) AND finished < $1 ORDER BY number LIMIT 1000",
-                      {before})
-                  .rows;
+  auto rows =
+      s->exec("SELECT id FROM jobs WHERE state IN (3, 4, 5) AND finished < $1 ORDER BY number LIMIT 1000",
+              {before})
+          .rows;
   const double now = now_unix();
   for (const auto& r : rows) {
     const std::string id = sql_string(r[0]);

@@ -14,14 +14,14 @@
 // shown a watcher.
 #pragma once
 
-#include "depath/v1/job.pb.h"
-#include "store/sql_database.hpp"
-
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include "depath/v1/job.pb.h"
+#include "store/sql_database.hpp"
 
 namespace depath::service {
 
@@ -88,14 +88,16 @@ class JobStore {
   struct Heartbeat {
     std::vector<std::string> cancel, lost;
   };
-  Heartbeat heartbeat(const std::string& owner, const std::vector<std::string>& ids, double now, double lease_seconds);
+  Heartbeat heartbeat(const std::string& owner, const std::vector<std::string>& ids, double now,
+                      double lease_seconds);
   /// Reserves sequences up to `upto`. False if the lease is lost.
   bool reserve_sequences(const std::string& id, const std::string& owner, uint64_t upto);
   /// Stores a state or result event (or progress: replaces the job's previous progress
   /// row and its JobInfo progress). `state`: the job's new state (RUNNING sets started).
   /// False if the lease is lost.
   bool append_event(const std::string& id, const std::string& owner, const v1::JobEvent& event);
-  bool put_checkpoint(const std::string& id, const std::string& owner, int generation, const std::string& bytes);
+  bool put_checkpoint(const std::string& id, const std::string& owner, int generation,
+                      const std::string& bytes);
   std::string get_checkpoint(const std::string& id);
   std::optional<v1::JobResult> get_result(const std::string& id);
   /// Terminal state, result and final events (the terminal state event last; a progress

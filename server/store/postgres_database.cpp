@@ -1,17 +1,16 @@
 // SqlDatabase over PostgreSQL (libpq): a small pool of connections, parameters sent as text
 // (numbers) or binary (bytes), results received binary and decoded by column type. A broken
 // connection is reset on its next use, so a restarted PostgreSQL is picked up again.
-#include "store/sql_database.hpp"
-
-#include <libpq-fe.h>
-
 #include <arpa/inet.h>
+#include <libpq-fe.h>
 
 #include <bit>
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
+
+#include "store/sql_database.hpp"
 
 namespace depath::service {
 namespace {
@@ -34,9 +33,12 @@ T read_be(const char* p) {
   T v;
   std::memcpy(&v, p, sizeof v);
   if constexpr (std::endian::native == std::endian::little) {
-    if constexpr (sizeof(T) == 8) v = static_cast<T>(__builtin_bswap64(static_cast<uint64_t>(v)));
-    else if constexpr (sizeof(T) == 4) v = static_cast<T>(__builtin_bswap32(static_cast<uint32_t>(v)));
-    else v = static_cast<T>(__builtin_bswap16(static_cast<uint16_t>(v)));
+    if constexpr (sizeof(T) == 8)
+      v = static_cast<T>(__builtin_bswap64(static_cast<uint64_t>(v)));
+    else if constexpr (sizeof(T) == 4)
+      v = static_cast<T>(__builtin_bswap32(static_cast<uint32_t>(v)));
+    else
+      v = static_cast<T>(__builtin_bswap16(static_cast<uint16_t>(v)));
   }
   return v;
 }
@@ -66,7 +68,8 @@ class PgDatabase final : public SqlDatabase {
         for (PGconn* c : free_) PQfinish(c);
         throw StoreError("cannot connect to the PostgreSQL store " + redact(uri) + ": " + trim(message));
       }
-      PQsetNoticeProcessor(conn, [](void*, const char*) {}, nullptr);  // "already exists" notices
+      PQsetNoticeProcessor(
+          conn, [](void*, const char*) {}, nullptr);  // "already exists" notices
       free_.push_back(conn);
     }
   }
@@ -137,8 +140,8 @@ SqlResult PgSession::exec(std::string_view sql, const std::vector<SqlParam>& par
     lengths[i] = static_cast<int>(s.size());
     formats[i] = p.blob ? 1 : 0;
   }
-  PGresult* r = PQexecParams(conn_, std::string(sql).c_str(), static_cast<int>(params.size()), nullptr, values.data(),
-                             lengths.data(), formats.data(), 1);
+  PGresult* r = PQexecParams(conn_, std::string(sql).c_str(), static_cast<int>(params.size()), nullptr,
+                             values.data(), lengths.data(), formats.data(), 1);
   const auto status = PQresultStatus(r);
   if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) {
     const std::string message = PgDatabase::trim(r ? PQresultErrorMessage(r) : PQerrorMessage(conn_));
@@ -156,13 +159,26 @@ SqlResult PgSession::exec(std::string_view sql, const std::vector<SqlParam>& par
       const char* v = PQgetvalue(r, i, c);
       const int len = PQgetlength(r, i, c);
       switch (PQftype(r, c)) {
-        case kInt8: row[c] = read_be<int64_t>(v); break;
-        case kInt4: row[c] = int64_t{read_be<int32_t>(v)}; break;
-        case kInt2: row[c] = int64_t{read_be<int16_t>(v)}; break;
-        case kBool: row[c] = int64_t{v[0] != 0}; break;
-        case kFloat8: row[c] = std::bit_cast<double>(read_be<uint64_t>(v)); break;
-        case kFloat4: row[c] = double{std::bit_cast<float>(read_be<uint32_t>(v))}; break;
-        default: row[c] = std::string(v, static_cast<size_t>(len));  // text, bytea: the raw bytes
+        case kInt8:
+          row[c] = read_be<int64_t>(v);
+          break;
+        case kInt4:
+          row[c] = int64_t{read_be<int32_t>(v)};
+          break;
+        case kInt2:
+          row[c] = int64_t{read_be<int16_t>(v)};
+          break;
+        case kBool:
+          row[c] = int64_t{v[0] != 0};
+          break;
+        case kFloat8:
+          row[c] = std::bit_cast<double>(read_be<uint64_t>(v));
+          break;
+        case kFloat4:
+          row[c] = double{std::bit_cast<float>(read_be<uint32_t>(v))};
+          break;
+        default:
+          row[c] = std::string(v, static_cast<size_t>(len));  // text, bytea: the raw bytes
       }
     }
     result.rows.push_back(std::move(row));

@@ -43,7 +43,9 @@ inline SqlParam sql_blob(std::string bytes) {
   return p;
 }
 /// NULL for an empty string, else the text.
-inline SqlParam sql_text_or_null(const std::string& s) { return s.empty() ? SqlParam(std::monostate{}) : SqlParam(s); }
+inline SqlParam sql_text_or_null(const std::string& s) {
+  return s.empty() ? SqlParam(std::monostate{}) : SqlParam(s);
+}
 
 struct SqlResult {
   std::vector<SqlRow> rows;

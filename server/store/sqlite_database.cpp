@@ -2,11 +2,8 @@
 // kill -9 at any instant leaves the last committed transaction), synchronous=FULL (a
 // committed submit survives a power cut too), statements prepared once and cached. One
 // process owns the file: an flock'ed "<file>.lock" beside it refuses a second depathd.
-#include "store/sql_database.hpp"
-
-#include <sqlite3.h>
-
 #include <fcntl.h>
+#include <sqlite3.h>
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -14,6 +11,8 @@
 #include <cstring>
 #include <map>
 #include <mutex>
+
+#include "store/sql_database.hpp"
 
 namespace depath::service {
 namespace {
@@ -47,9 +46,10 @@ class SqliteDatabase final : public SqlDatabase {
       }
       if (::flock(lock_fd_, LOCK_EX | LOCK_NB) != 0) {
         ::close(lock_fd_);
-        throw StoreError("the store " + path +
-                         " is in use by another depathd (SQLite has one writer): give this one its own --data-dir, "
-                         "or run replicas on --store postgresql://...");
+        throw StoreError(
+            "the store " + path +
+            " is in use by another depathd (SQLite has one writer): give this one its own --data-dir, "
+            "or run replicas on --store postgresql://...");
       }
     }
     const int rc = sqlite3_open_v2(path.c_str(), &db_,
@@ -65,7 +65,8 @@ class SqliteDatabase final : public SqlDatabase {
       auto s = session();
       s->exec_script("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=OFF;");
       // Fails here, at start, on a read-only file or directory (not at the first upload).
-      s->exec_script("CREATE TABLE IF NOT EXISTS depath_write_check (x INTEGER); DROP TABLE depath_write_check;");
+      s->exec_script(
+          "CREATE TABLE IF NOT EXISTS depath_write_check (x INTEGER); DROP TABLE depath_write_check;");
     } catch (const StoreError& e) {
       close();
       throw StoreError(std::string(e.what()) + owner_hint());
@@ -123,9 +124,12 @@ SqlResult SqliteSession::exec(std::string_view sql, const std::vector<SqlParam>&
     const int k = static_cast<int>(i) + 1;
     const SqlParam& p = params[i];
     int rc = SQLITE_OK;
-    if (std::holds_alternative<std::monostate>(p.value)) rc = sqlite3_bind_null(stmt, k);
-    else if (const auto* v = std::get_if<int64_t>(&p.value)) rc = sqlite3_bind_int64(stmt, k, *v);
-    else if (const auto* d = std::get_if<double>(&p.value)) rc = sqlite3_bind_double(stmt, k, *d);
+    if (std::holds_alternative<std::monostate>(p.value))
+      rc = sqlite3_bind_null(stmt, k);
+    else if (const auto* v = std::get_if<int64_t>(&p.value))
+      rc = sqlite3_bind_int64(stmt, k, *v);
+    else if (const auto* d = std::get_if<double>(&p.value))
+      rc = sqlite3_bind_double(stmt, k, *d);
     else {
       const auto& s = std::get<std::string>(p.value);
       rc = p.blob ? sqlite3_bind_blob64(stmt, k, s.data(), s.size(), SQLITE_STATIC)
@@ -146,9 +150,14 @@ SqlResult SqliteSession::exec(std::string_view sql, const std::vector<SqlParam>&
     SqlRow row(static_cast<size_t>(sqlite3_column_count(stmt)));
     for (int c = 0; c < static_cast<int>(row.size()); ++c) {
       switch (sqlite3_column_type(stmt, c)) {
-        case SQLITE_INTEGER: row[c] = static_cast<int64_t>(sqlite3_column_int64(stmt, c)); break;
-        case SQLITE_FLOAT: row[c] = sqlite3_column_double(stmt, c); break;
-        case SQLITE_NULL: break;
+        case SQLITE_INTEGER:
+          row[c] = static_cast<int64_t>(sqlite3_column_int64(stmt, c));
+          break;
+        case SQLITE_FLOAT:
+          row[c] = sqlite3_column_double(stmt, c);
+          break;
+        case SQLITE_NULL:
+          break;
         default: {
           const auto* data = static_cast<const char*>(sqlite3_column_blob(stmt, c));
           row[c] = std::string(data ? data : "", static_cast<size_t>(sqlite3_column_bytes(stmt, c)));
@@ -174,6 +183,8 @@ void SqliteSession::exec_script(std::string_view sql) {
 
 }  // namespace
 
-std::unique_ptr<SqlDatabase> open_sqlite(const std::string& path) { return std::make_unique<SqliteDatabase>(path); }
+std::unique_ptr<SqlDatabase> open_sqlite(const std::string& path) {
+  return std::make_unique<SqliteDatabase>(path);
+}
 
 }  // namespace depath::service

@@ -22,12 +22,12 @@ struct DeState {
   int dimension = 0;   ///< n
   uint64_t seed = 0;
   std::string strategy;
-  int generation = 0;               ///< generations completed; the run resumes with generation + 1
-  std::vector<double> agents;       ///< N x n, row-major
-  std::vector<double> energies;     ///< N
-  double best_energy = 0.0;         ///< lowest energy ever evaluated
-  int best_index = -1;              ///< agent holding it, -1 while kept aside (saved_best)
-  std::vector<double> saved_best;   ///< the best kept outside the population since a restart
+  int generation = 0;              ///< generations completed; the run resumes with generation + 1
+  std::vector<double> agents;      ///< N x n, row-major
+  std::vector<double> energies;    ///< N
+  double best_energy = 0.0;        ///< lowest energy ever evaluated
+  int best_index = -1;             ///< agent holding it, -1 while kept aside (saved_best)
+  std::vector<double> saved_best;  ///< the best kept outside the population since a restart
   int64_t evaluations = 0;
   int restarts = 0;
   int since_improvement = 0;

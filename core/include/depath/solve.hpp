@@ -56,7 +56,7 @@ struct SolveHooks {
   /// later: checkpoint_due is polled between generations; when true, on_checkpoint gets the
   /// run's whole state as bytes (de_checkpoint.hpp). Both on the solving thread.
   std::function<bool()> checkpoint_due;
-  std::function<void(const std::string& checkpoint)> on_checkpoint;
+  std::function<void(std::string checkpoint)> on_checkpoint;  ///< owns the bytes (may keep them)
   /// Polled between generations: true checkpoints and stops; the result then has
   /// stop_reason "suspended" and is not refined.
   std::function<bool()> suspend;

@@ -368,16 +368,21 @@ bool JobManager::emit(Running& run, v1::JobEvent event, bool persist) {
     event.set_job_id(run.id);
     event.set_sequence(seq);
     event.set_time_unix(now_unix());
-    if (persist && !store_.append_event(run.id, replica_, event)) {
+    // Progress never waits for the store (it may be busy storing a large checkpoint): if
+    // it is busy, this one stays unstored and a later one (or the finish) is stored instead.
+    auto stored = JobStore::Append::busy;
+    if (persist) stored = store_.append_event(run.id, replica_, event, !event.has_progress());
+    if (stored == JobStore::Append::lost) {
       run.lost.store(true);
       run.cancel.store(true);
       return false;
     }
     if (event.has_progress()) {
-      if (persist)
+      if (stored == JobStore::Append::stored) {
         run.unstored_progress.reset();
-      else
+      } else {
         run.unstored_progress = event;
+      }
     }
   } catch (const StoreError& e) {
     log_.warn("store.error", {{"job", run.id}, {"reason", e.what()}});

@@ -340,8 +340,10 @@ bool JobStore::reserve_sequences(const std::string& id, const std::string& owner
          !s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty();
 }
 
-bool JobStore::append_event(const std::string& id, const std::string& owner, const v1::JobEvent& event) {
-  auto s = db_->session();
+JobStore::Append JobStore::append_event(const std::string& id, const std::string& owner,
+                                        const v1::JobEvent& event, bool wait) {
+  auto s = wait ? db_->session() : db_->try_session();
+  if (!s) return Append::busy;
   SqlTransaction tx(*s, db_->dialect());
   const auto seq = static_cast<int64_t>(event.sequence());
   int64_t changed = 0;
@@ -362,12 +364,12 @@ bool JobStore::append_event(const std::string& id, const std::string& owner, con
                    {static_cast<int>(event.state().state()), event.time_unix(), seq, id, owner})
                   .affected;
   }
-  if (changed == 0) return false;
+  if (changed == 0) return Append::lost;
   s->exec(
       "INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, $3, $4) ON CONFLICT DO NOTHING",
       {id, seq, event.has_progress() ? 1 : 0, sql_blob(event.SerializeAsString())});
   tx.commit();
-  return true;
+  return Append::stored;
 }
 
 bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, int generation,

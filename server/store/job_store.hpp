@@ -94,8 +94,10 @@ class JobStore {
   bool reserve_sequences(const std::string& id, const std::string& owner, uint64_t upto);
   /// Stores a state or result event (or progress: replaces the job's previous progress
   /// row and its JobInfo progress). `state`: the job's new state (RUNNING sets started).
-  /// False if the lease is lost.
-  bool append_event(const std::string& id, const std::string& owner, const v1::JobEvent& event);
+  /// lost: the lease is lost (nothing written); busy: !wait and the store is busy.
+  enum class Append { stored, lost, busy };
+  Append append_event(const std::string& id, const std::string& owner, const v1::JobEvent& event,
+                      bool wait = true);
   bool put_checkpoint(const std::string& id, const std::string& owner, int generation,
                       const std::string& bytes);
   std::string get_checkpoint(const std::string& id);

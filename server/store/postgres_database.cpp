@@ -86,6 +86,12 @@ class PgDatabase final : public SqlDatabase {
     if (PQstatus(conn) != CONNECTION_OK) PQreset(conn);
     return std::make_unique<PgSession>(*this, conn);
   }
+  std::unique_ptr<SqlSession> try_session() override {
+    std::unique_lock lock(mutex_);
+    if (free_.empty()) return nullptr;
+    lock.unlock();
+    return session();
+  }
   SqlDialect dialect() const override { return SqlDialect::postgresql; }
 
   void give_back(PGconn* conn) {

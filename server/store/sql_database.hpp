@@ -71,6 +71,9 @@ class SqlDatabase {
  public:
   virtual ~SqlDatabase() = default;
   virtual std::unique_ptr<SqlSession> session() = 0;
+  /// A session only if a connection is free right now (else nullptr): for writes that may
+  /// be skipped rather than wait (progress rows while a large checkpoint is being stored).
+  virtual std::unique_ptr<SqlSession> try_session() = 0;
   virtual SqlDialect dialect() const = 0;
 };
 

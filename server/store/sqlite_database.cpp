@@ -26,7 +26,7 @@ class SqliteDatabase;
 
 class SqliteSession final : public SqlSession {
  public:
-  SqliteSession(SqliteDatabase& db);
+  SqliteSession(SqliteDatabase& db, std::unique_lock<std::mutex> lock) : db_(db), lock_(std::move(lock)) {}
   SqlResult exec(std::string_view sql, const std::vector<SqlParam>& params) override;
   void exec_script(std::string_view sql) override;
 
@@ -74,7 +74,14 @@ class SqliteDatabase final : public SqlDatabase {
   }
   ~SqliteDatabase() override { close(); }
 
-  std::unique_ptr<SqlSession> session() override { return std::make_unique<SqliteSession>(*this); }
+  std::unique_ptr<SqlSession> session() override {
+    return std::make_unique<SqliteSession>(*this, std::unique_lock(mutex_));
+  }
+  std::unique_ptr<SqlSession> try_session() override {
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) return nullptr;
+    return std::make_unique<SqliteSession>(*this, std::move(lock));
+  }
   SqlDialect dialect() const override { return SqlDialect::sqlite; }
 
   [[noreturn]] void fail(const std::string& what) {
@@ -113,8 +120,6 @@ class SqliteDatabase final : public SqlDatabase {
   int lock_fd_ = -1;
   std::map<std::string, sqlite3_stmt*> statements_;
 };
-
-SqliteSession::SqliteSession(SqliteDatabase& db) : db_(db), lock_(db.mutex_) {}
 
 SqlResult SqliteSession::exec(std::string_view sql, const std::vector<SqlParam>& params) {
   sqlite3_stmt* stmt = db_.statement(sql);

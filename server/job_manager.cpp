@@ -658,6 +658,17 @@ bool JobManager::wait_idle(std::chrono::steady_clock::time_point deadline) {
   return idle_.wait_until(lock, deadline, [&] { return running_.empty() && busy_ == 0; });
 }
 
+void JobManager::poke_watchers() {
+  std::vector<std::shared_ptr<EventLog>> logs;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, weak] : logs_) {
+      if (auto log = weak.lock()) logs.push_back(std::move(log));
+    }
+  }
+  for (auto& log : logs) hub_.post(std::move(log));
+}
+
 int JobManager::running_jobs() {
   std::lock_guard lock(mutex_);
   return static_cast<int>(running_.size());

@@ -57,6 +57,9 @@ class JobManager {
   /// Waits until no job runs here; false if `deadline` passed first.
   bool wait_idle(std::chrono::steady_clock::time_point deadline);
 
+  /// Wakes every watch stream (their reactors re-check the server's state).
+  void poke_watchers();
+
   int running_jobs();
   int queued_jobs();
   const std::string& replica_id() const { return replica_; }

@@ -154,6 +154,10 @@ bool Server::shutdown() {
   s.context.shutting_down.store(true);
   s.jobs.begin_shutdown();
   const bool clean = s.jobs.wait_idle(deadline);
+  if (s.store->durable()) {  // the jobs live on: end the watch streams now, not at the deadline
+    s.context.release_watchers.store(true);
+    s.jobs.poke_watchers();
+  }
   s.hub.flush();  // watchers now have their final events queued
   // Give open streams the rest of the budget (at least a moment) to deliver them.
   const auto grpc_deadline = std::max(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(500));

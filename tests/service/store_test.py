@@ -67,7 +67,8 @@ class Daemon:
         self.port_file = os.path.join(WORK, self.name + ".port")
         self.log_path = os.path.join(WORK, self.name + ".log")
         self.proc = subprocess.Popen([ARGS.depathd, "--listen", "127.0.0.1:0", "--port-file", self.port_file,
-                                      "--threads", "2", "--log-format", "json"] + list(store_args) + list(extra),
+                                      "--threads", "2", "--log-format", "json", "--log-level", "debug"]
+                                     + list(store_args) + list(extra),
                                      stdout=subprocess.DEVNULL, stderr=open(self.log_path, "w"))
         deadline = time.monotonic() + 30 * SCALE
         while not (os.path.exists(self.port_file) and open(self.port_file).read().strip()):
@@ -92,6 +93,15 @@ class Daemon:
             if entry.get("msg") == message or entry.get("message") == message or entry.get("event") == message:
                 out.append(entry)
         return out
+
+
+def wait_checkpoint(d, job, generation):
+    """Until the daemon's log says a checkpoint at `generation` or later is stored (they are
+    written beside the run, so a slow disk can lag behind the generations watchers see)."""
+    deadline = time.monotonic() + 60 * SCALE
+    while not any(e.get("job") == job and e.get("generation", 0) >= generation for e in d.log_lines("job.checkpointed")):
+        check(time.monotonic() < deadline, "no checkpoint at generation >= %d stored" % generation)
+        time.sleep(0.05)
 
 
 def submit(d, seed, generations):
@@ -151,6 +161,7 @@ def restart_durability(store_args, label):
         long_job = submit(d, 3, LONG)
         queued = submit(d, 4, 150)
         seen = watch_until_generation(d, long_job, 400)
+        wait_checkpoint(d, long_job, 300)
         d.stop(sig)
         t0 = time.monotonic()
         d = Daemon(store_args, ["--checkpoint-seconds", "0.3", "--max-running-jobs", "1"])
@@ -281,6 +292,7 @@ def test_postgres(pg):
         watch_until_generation(a, job, 300)
         b = Daemon(store, opts)
         watch_until_generation(b, job, 400)  # live progress through the other replica
+        wait_checkpoint(a, job, 300)
         a.stop(signal.SIGKILL)
         t0 = time.monotonic()
         evs = events(b, job, timeout=600)

@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   CLI::App app{"depath: energy-minimizing paths on triangle meshes (DE-Path)"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "depath 0.1.0");
+  // A flag given twice takes its last value (scripts append overrides to a base command).
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   depath::cli::add_solve_command(app);
   depath::cli::add_generate_command(app);
 #ifdef DEPATH_WITH_REMOTE

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -290,6 +291,7 @@ v1::JobEvent RemoteClient::watch(const std::string& job_id, uint64_t after_seque
                                  const std::function<void(const v1::JobEvent&)>& on_event,
                                  const std::atomic<bool>* cancel_requested) {
   uint64_t cursor = after_sequence;
+  bool reconnecting = false;
   auto give_up_at = std::chrono::steady_clock::now() + std::chrono::duration<double>(kReconnectSeconds);
   double backoff = 0.2;
   std::atomic<bool> done{false};
@@ -327,6 +329,11 @@ v1::JobEvent RemoteClient::watch(const std::string& job_id, uint64_t after_seque
     v1::JobEvent event;
     std::optional<v1::JobEvent> terminal;
     while (reader->Read(&event)) {
+      if (reconnecting) {
+        std::fprintf(stderr, "depath: reconnected to %s; watching job %s again\n", options_.server.c_str(),
+                     job_id.c_str());
+        reconnecting = false;
+      }
       cursor = event.sequence();
       backoff = 0.2;
       give_up_at = std::chrono::steady_clock::now() + std::chrono::duration<double>(kReconnectSeconds);
@@ -339,6 +346,12 @@ v1::JobEvent RemoteClient::watch(const std::string& job_id, uint64_t after_seque
     if (std::chrono::steady_clock::now() > give_up_at) {
       check(status.ok() ? grpc::Status(grpc::StatusCode::UNAVAILABLE, "stream ended early") : status,
             "watching job " + job_id + " (gave up reconnecting)");
+    }
+    if (!reconnecting) {  // a restarting server (or a replica going away): say so, keep going
+      std::fprintf(stderr, "depath: lost the connection to %s (%s); reconnecting, the job goes on...\n",
+                   options_.server.c_str(),
+                   status.ok() ? "stream ended" : wire::status_code_name(status.error_code()));
+      reconnecting = true;
     }
     std::this_thread::sleep_for(std::chrono::duration<double>(backoff));
     backoff = std::min(2.0, backoff * 2);

@@ -12,15 +12,23 @@ bool is_terminal_event(const v1::JobEvent& event) {
   return event.has_state() && wire::is_terminal(event.state().state());
 }
 
-uint64_t EventLog::publish(v1::JobEvent event) {
+uint64_t EventLog::publish(v1::JobEvent event) { return insert(std::move(event), false); }
+
+void EventLog::append_stored(v1::JobEvent event) { insert(std::move(event), true); }
+
+uint64_t EventLog::insert(v1::JobEvent event, bool stored) {
   uint64_t seq;
   {
     std::lock_guard lock(mutex_);
     if (closed_) return 0;  // nothing follows the terminal event
-    seq = next_sequence_++;
+    if (stored && event.sequence() < next_sequence_) return 0;  // seen already
+    seq = std::max<uint64_t>(next_sequence_, event.sequence());
+    next_sequence_ = seq + 1;
     event.set_job_id(job_id_);
     event.set_sequence(seq);
-    event.set_time_unix(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+    if (event.time_unix() == 0) {
+      event.set_time_unix(std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+    }
     auto ptr = std::make_shared<const v1::JobEvent>(std::move(event));
     if (ptr->has_progress()) {
       latest_progress_ = std::move(ptr);
@@ -31,6 +39,11 @@ uint64_t EventLog::publish(v1::JobEvent event) {
   }
   hub_.post(shared_from_this());
   return seq;
+}
+
+void EventLog::skip_to(uint64_t sequence) {
+  std::lock_guard lock(mutex_);
+  next_sequence_ = std::max(next_sequence_, sequence + 1);
 }
 
 EventPtr EventLog::next_after(uint64_t after) const {

@@ -37,8 +37,16 @@ class EventLog : public std::enable_shared_from_this<EventLog> {
   EventLog(std::string job_id, EventHub& hub) : job_id_(std::move(job_id)), hub_(hub) {}
 
   /// Numbers, timestamps and stores the event, then wakes the watchers (asynchronously).
-  /// A state event whose state is terminal closes the log: nothing may follow it.
+  /// A state event whose state is terminal closes the log: nothing may follow it. An event
+  /// that already carries a sequence above the last keeps it (and its time, if set).
   uint64_t publish(v1::JobEvent event);
+
+  /// A log mirroring the store: adds an event numbered elsewhere, unless its sequence is
+  /// not above the last one here (already seen).
+  void append_stored(v1::JobEvent event);
+  /// The next published event gets a sequence above `sequence` (a job taken over: above
+  /// every number its previous runner may have used).
+  void skip_to(uint64_t sequence);
 
   /// The next event to send to a watcher that has seen everything up to `after`: the first
   /// kept event with a larger sequence (nullptr if none yet).
@@ -53,6 +61,7 @@ class EventLog : public std::enable_shared_from_this<EventLog> {
   size_t num_subscribers() const;
 
  private:
+  uint64_t insert(v1::JobEvent event, bool stored);
   const std::string job_id_;
   EventHub& hub_;
   mutable std::mutex mutex_;

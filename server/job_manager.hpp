@@ -1,8 +1,29 @@
 // SPDX-License-Identifier: MIT
-// The job queue: validates and queues jobs, runs up to --max-running-jobs of them at once
-// (one driver thread each, evaluation work on the server's shared ThreadPool), publishes
-// their events, cancels them, forgets finished ones after --job-ttl-seconds.
+// The jobs of a depathd replica, kept in the job store (store/job_store.hpp): validates and
+// stores submitted jobs; its driver threads (--max-running-jobs) claim queued jobs — or
+// running ones whose runner died (lease expired) — from the store, and run them with
+// evaluation work on the server's shared ThreadPool. A running DE job checkpoints every
+// --checkpoint-seconds and resumes from its checkpoint after a restart or takeover, ending
+// bit-identical to an uninterrupted run. Events are published to live watchers at once and
+// stored (state changes and results always, progress at most a few times a second);
+// watchers of jobs running elsewhere follow the store. Finished jobs are removed after
+// --job-ttl-seconds.
+//
+// Shutdown: on a durable store running jobs checkpoint and are handed back (they resume
+// on the next start or on another replica), queued ones stay queued; on `memory` every job
+// is cancelled (nothing would survive).
 #pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include "depath/util/thread_pool.hpp"
 #include "depath/v1/job.pb.h"
@@ -10,24 +31,15 @@
 #include "log.hpp"
 #include "mesh_store.hpp"
 #include "options.hpp"
-
-#include <atomic>
-#include <chrono>
-#include <condition_variable>
-#include <deque>
-#include <map>
-#include <memory>
-#include <mutex>
-#include <string>
-#include <thread>
-#include <vector>
+#include "store/job_store.hpp"
 
 namespace depath::service {
 
 class JobManager {
  public:
-  JobManager(const ServerOptions& options, MeshStore& meshes, EventHub& hub, ThreadPool& pool, Log& log);
-  ~JobManager();  ///< cancels everything and joins the driver threads
+  JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub,
+             ThreadPool& pool, Log& log);
+  ~JobManager();  ///< stops (as begin_shutdown) and joins the threads
   JobManager(const JobManager&) = delete;
   JobManager& operator=(const JobManager&) = delete;
 
@@ -40,42 +52,52 @@ class JobManager {
   /// The job's event log (NOT_FOUND for an unknown job).
   std::shared_ptr<EventLog> events(const std::string& job_id);
 
-  /// Refuses new jobs (UNAVAILABLE) and cancels every queued and running one.
+  /// Refuses new jobs (UNAVAILABLE); suspends (durable store) or cancels (memory) the
+  /// running ones, and on memory cancels the queued ones.
   void begin_shutdown();
-  /// Waits until no job runs; false if `deadline` passed first.
+  /// Waits until no job runs here; false if `deadline` passed first.
   bool wait_idle(std::chrono::steady_clock::time_point deadline);
+
+  /// Wakes every watch stream (their reactors re-check the server's state).
+  void poke_watchers();
 
   int running_jobs();
   int queued_jobs();
+  const std::string& replica_id() const { return replica_; }
 
  private:
-  struct Job;
+  struct Running;
   void driver_loop();
-  void reaper_loop();
-  void run_job(const std::shared_ptr<Job>& job);
-  void finish_locked(Job& job, v1::JobState state, int code, const std::string& message);
-  v1::JobInfo info_locked(const Job& job) const;
-  std::shared_ptr<Job> find_locked(const std::string& job_id) const;
-  std::string new_job_id();
+  void heartbeat_loop();
+  void run_job(JobRecord job);
+  void execute(Running& run, const JobRecord& job);
+  bool emit(Running& run, v1::JobEvent event, bool persist);
+  void finish(Running& run, v1::JobState state, int code, const std::string& message,
+              const std::shared_ptr<v1::JobResult>& result);
+  v1::JobInfo info_of(const JobRecord& job, int queue_position);
+  JobRecord find(const std::string& job_id);
+  std::shared_ptr<EventLog> log_for(const std::string& job_id);
+  void sync_log(const std::string& job_id, const std::shared_ptr<EventLog>& log);
+  void sync_mirrors();
 
   const ServerOptions options_;
+  JobStore& store_;
   MeshStore& meshes_;
   EventHub& hub_;
   ThreadPool& pool_;
   Log& log_;
+  const std::string replica_;  // this process's identity as a lease owner
 
   std::mutex mutex_;
-  std::condition_variable work_, idle_, reaper_wake_;
-  std::map<std::string, std::shared_ptr<Job>> jobs_;
-  std::map<std::string, std::string> by_request_id_;
-  std::deque<std::shared_ptr<Job>> queue_;
-  int running_ = 0;
-  bool stopping_ = false;  // shutting down: refuse new jobs
-  bool exiting_ = false;   // threads must exit
-  uint64_t counter_ = 0;
-  uint64_t id_salt_ = 0;
+  std::condition_variable work_, idle_, beat_wake_;
+  std::map<std::string, std::shared_ptr<Running>> running_;
+  std::map<std::string, std::weak_ptr<EventLog>> logs_;     // logs someone holds (watchers, runners)
+  std::map<std::string, std::shared_ptr<MeshLease>> pins_;  // meshes of jobs submitted here, until they run
+  int busy_ = 0;                                            // drivers between claim and the end of the run
+  bool stopping_ = false;                                   // shutting down: refuse new jobs, claim nothing
+  bool exiting_ = false;                                    // threads must exit
   std::vector<std::thread> drivers_;
-  std::thread reaper_;
+  std::thread heartbeat_;
 };
 
 }  // namespace depath::service

@@ -84,7 +84,13 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
     EventPtr next = log_->next_after(cursor_);
     if (!next) {
       // Nothing new; the log may already be closed (resumed after the terminal event).
-      if (log_->closed() && log_->next_after(cursor_) == nullptr) finish_locked(grpc::Status::OK);
+      if (log_->closed() && log_->next_after(cursor_) == nullptr) {
+        finish_locked(grpc::Status::OK);
+      } else if (ctx_.release_watchers.load()) {
+        finish_locked(grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                                   "server shutting down; the job goes on after a restart or on another replica: "
+                                   "watch again with after_sequence"));
+      }
       return;
     }
     in_flight_ = std::move(next);

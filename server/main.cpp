@@ -7,11 +7,21 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <fstream>
 #include <future>
 #include <pthread.h>
 #include <unistd.h>
+
+namespace {
+// Durable by default: a user's state directory (XDG base directory spec).
+std::string default_data_dir() {
+  if (const char* state = std::getenv("XDG_STATE_HOME"); state && *state) return std::string(state) + "/depath";
+  if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.local/state/depath";
+  return {};
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   depath::service::ServerOptions o;
@@ -50,7 +60,22 @@ int main(int argc, char** argv) {
   app.add_option("--max-job-memory-bytes", o.max_job_memory_bytes,
                  "Memory a DE job may take by the estimate population x vertices x 16 bytes")
       ->capture_default_str();
-  app.add_option("--data-dir", o.data_dir, "Persist uploaded meshes here; reloaded on a cache miss or restart");
+  app.add_option("--data-dir", o.data_dir,
+                 "Directory of the default store (SQLite file depath.db: meshes, jobs, events, results, "
+                 "checkpoints). Default: $XDG_STATE_HOME/depath, else ~/.local/state/depath")
+      ->envname("DEPATHD_DATA_DIR");
+  app.add_option("--store", o.store,
+                 "Where jobs and meshes live: sqlite:PATH, postgresql://USER@HOST:PORT/DB (shared by replicas) or "
+                 "memory (nothing survives a restart). Default: sqlite:<data-dir>/depath.db")
+      ->envname("DEPATHD_STORE");
+  app.add_option("--checkpoint-seconds", o.checkpoint_seconds,
+                 "A running DE job saves its whole state this often (and at SIGTERM); it resumes from there "
+                 "after a restart, bit-identical to an uninterrupted run (0 = only at SIGTERM)")
+      ->capture_default_str();
+  app.add_option("--lease-seconds", o.lease_seconds,
+                 "A replica's claim on a running job lasts this long without renewal; then another replica "
+                 "takes the job over from its checkpoint")
+      ->capture_default_str();
   app.add_option("--auth-token", o.auth_token,
                  "Require metadata 'authorization: Bearer TOKEN' on every call (health exempt)");
   app.add_option("--log-format", o.log_format, "Log lines as text or json")
@@ -61,6 +86,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--port-file", port_file, "Write the port listened on to this file once serving");
   CLI11_PARSE(app, argc, argv);
+  if (o.store.empty() && o.data_dir.empty()) o.data_dir = default_data_dir();
+  if (o.store.empty() && o.data_dir.empty()) {
+    std::fprintf(stderr, "depathd: error: no --data-dir given and neither XDG_STATE_HOME nor HOME is set\n");
+    return 2;
+  }
 
   // Handle SIGTERM/SIGINT on this thread only: block them before any thread starts.
   sigset_t signals;

@@ -6,19 +6,9 @@
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
 
-#include <algorithm>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
-#include <sstream>
-
-namespace fs = std::filesystem;
-
 namespace depath::service {
 
 namespace {
-const char* const kFormats[] = {"obj", "off", "ply", "stl"};
-
 ServiceError not_found(const std::string& id) {
   return ServiceError(grpc::StatusCode::NOT_FOUND,
                       "mesh " + id + " not found (unknown, deleted or evicted from the cache): upload it again");
@@ -27,18 +17,8 @@ ServiceError not_found(const std::string& id) {
 
 MeshLease::~MeshLease() { store_->release(record_); }
 
-MeshStore::MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log, ParseLimits parse)
-    : budget_(budget_bytes), data_dir_(std::move(data_dir)), log_(log), parse_limits_(parse) {
-  if (!data_dir_.empty()) {
-    std::error_code ec;
-    fs::create_directories(data_dir_, ec);
-    if (ec) throw Error(ErrorCode::invalid_argument, "cannot create --data-dir " + data_dir_ + ": " + ec.message());
-  }
-}
-
-std::string MeshStore::disk_path(const std::string& id, const std::string& format) const {
-  return (fs::path(data_dir_) / (id + "." + format)).string();
-}
+MeshStore::MeshStore(uint64_t budget_bytes, JobStore& store, Log& log, ParseLimits parse)
+    : budget_(budget_bytes), store_(store), log_(log), parse_limits_(parse) {}
 
 void MeshStore::touch_locked(Record& r) {
   lru_.splice(lru_.begin(), lru_, r.lru_it);
@@ -151,35 +131,19 @@ v1::MeshInfo MeshStore::add(const std::string& id, const std::string& name, cons
     return *found;
   }
   auto record = parse_bounded(id, name, format, bytes);  // slow part, outside the lock
-  if (!data_dir_.empty()) {
-    const std::string path = disk_path(id, format);
-    const std::string tmp = path + ".tmp";
-    {
-      std::ofstream out(tmp, std::ios::binary);
-      out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-      if (!out) throw Error(ErrorCode::internal, "cannot write " + tmp + " in --data-dir");
-    }
-    std::error_code ec;
-    fs::rename(tmp, path, ec);
-    if (ec) throw Error(ErrorCode::internal, "cannot rename " + tmp + ": " + ec.message());
-  }
+  store_.put_mesh({id, name, format, bytes.size(), bytes});
   std::lock_guard lock(mutex_);
   auto stored = insert_locked(std::move(record));
   return info_locked(*stored);
 }
 
-std::shared_ptr<MeshRecord> MeshStore::load_from_disk(const std::string& id) {
-  if (data_dir_.empty() || !is_mesh_id(id)) return nullptr;
-  for (const char* format : kFormats) {
-    const std::string path = disk_path(id, format);
-    std::ifstream in(path, std::ios::binary);
-    if (!in) continue;
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    auto record = parse_bounded(id, id + "." + format, format, bytes);
-    log_.info("mesh.reloaded", {{"mesh", id}, {"path", path}});
-    return record;
-  }
-  return nullptr;
+std::shared_ptr<MeshRecord> MeshStore::load_from_store(const std::string& id) {
+  if (!store_.keeps_meshes() || !is_mesh_id(id)) return nullptr;
+  auto stored = store_.get_mesh(id);
+  if (!stored) return nullptr;
+  auto record = parse_bounded(id, stored->name, stored->format, stored->bytes);
+  log_.info("mesh.reloaded", {{"mesh", id}, {"store", store_.description()}});
+  return record;
 }
 
 std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
@@ -201,7 +165,7 @@ std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
   }
   std::shared_ptr<Record> stored;
   try {
-    auto record = load_from_disk(id);
+    auto record = load_from_store(id);
     if (!record) throw not_found(id);
     std::lock_guard lock(mutex_);
     stored = insert_locked(std::move(record));
@@ -228,23 +192,14 @@ v1::ListMeshesResponse MeshStore::list() {
   v1::ListMeshesResponse out;
   std::lock_guard lock(mutex_);
   for (const auto& id : lru_) *out.add_meshes() = info_locked(*records_.at(id));
-  if (!data_dir_.empty()) {
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(data_dir_, ec)) {
-      const std::string stem = entry.path().stem().string();
-      std::string ext = entry.path().extension().string();
-      if (!ext.empty()) ext.erase(0, 1);
-      if (!is_mesh_id(stem) || records_.count(stem)) continue;
-      bool known_format = false;
-      for (const char* f : kFormats) known_format |= ext == f;
-      if (!known_format) continue;
-      auto* info = out.add_meshes();
-      info->set_id(stem);
-      info->set_name(stem + "." + ext);
-      info->set_format(ext);
-      info->set_size_bytes(entry.file_size(ec));
-      info->set_cached(false);
-    }
+  for (const auto& m : store_.list_meshes()) {
+    if (records_.count(m.id)) continue;
+    auto* info = out.add_meshes();
+    info->set_id(m.id);
+    info->set_name(m.name);
+    info->set_format(m.format);
+    info->set_size_bytes(m.size_bytes);
+    info->set_cached(false);
   }
   out.set_cache_bytes(bytes_);
   out.set_cache_budget_bytes(budget_);
@@ -265,12 +220,7 @@ void MeshStore::remove(const std::string& id) {
       records_.erase(it);
     }
   }
-  if (!data_dir_.empty() && is_mesh_id(id)) {
-    for (const char* format : kFormats) {
-      std::error_code ec;
-      found |= fs::remove(disk_path(id, format), ec);
-    }
-  }
+  if (is_mesh_id(id)) found |= store_.delete_mesh(id);
   if (!found) throw not_found(id);
   log_.info("mesh.deleted", {{"mesh", id}});
 }

@@ -1,12 +1,15 @@
 // SPDX-License-Identifier: MIT
 // Parsed meshes by id (SHA-256 of their bytes): an LRU cache with a byte budget that never
-// evicts a mesh a queued or running job holds, optionally backed by a directory on disk.
+// evicts a mesh a queued or running job holds, backed by the job store (which keeps the
+// bytes and original names when durable; a miss reloads from it, whichever replica
+// uploaded the mesh).
 #pragma once
 
 #include "depath/mesh/mesh.hpp"
 #include "depath/v1/mesh.pb.h"
 #include "depath/wire/mesh.hpp"
 #include "log.hpp"
+#include "store/job_store.hpp"
 
 #include <chrono>
 #include <condition_variable>
@@ -62,29 +65,30 @@ struct ParseLimits {
 
 class MeshStore {
  public:
-  /// `data_dir` empty: memory only. Creates the directory if needed.
-  MeshStore(uint64_t budget_bytes, std::string data_dir, Log& log, ParseLimits parse = {});
+  /// `store` keeps the bytes when store.keeps_meshes(); else the cache is all there is.
+  /// `parse` bounds concurrent parses and the time of each.
+  MeshStore(uint64_t budget_bytes, JobStore& store, Log& log, ParseLimits parse = {});
 
   /// Info of a cached mesh (marks it recently used), or nullopt. Never reads the disk.
   std::optional<v1::MeshInfo> find_cached(const std::string& id);
 
   /// Parses `bytes` (format "obj"/"off"/"ply"/"stl"), stores the mesh under `id` and
-  /// persists the bytes in the data directory. Throws depath::Error(invalid_argument) with
+  /// persists the bytes in the store. Throws depath::Error(invalid_argument) with
   /// the loader's message for a bad file, Error(resource_exhausted) when no parse slot frees
   /// up or the parse overruns its budget. If the id is already cached, nothing is parsed.
   v1::MeshInfo add(const std::string& id, const std::string& name, const std::string& format,
                    const std::string& bytes);
 
-  /// Info of a mesh, reloading it from the data directory on a cache miss (concurrent
-  /// reloads of one mesh share a single parse). Throws ServiceError(NOT_FOUND).
+  /// Info of a mesh, reloading it from the store on a cache miss (concurrent reloads of one
+  /// mesh share a single parse). Throws ServiceError(NOT_FOUND).
   v1::MeshInfo get(const std::string& id);
 
   v1::ListMeshesResponse list();
 
-  /// Removes the mesh from the cache and the data directory. Throws NOT_FOUND.
+  /// Removes the mesh from the cache and the store. Throws NOT_FOUND.
   void remove(const std::string& id);
 
-  /// Pins the mesh for a job (reloading it from disk if needed). Throws NOT_FOUND.
+  /// Pins the mesh for a job (reloading it from the store if needed). Throws NOT_FOUND.
   std::shared_ptr<MeshLease> acquire(const std::string& id);
 
   uint64_t cached_bytes();
@@ -98,16 +102,15 @@ class MeshStore {
   void evict_locked(const std::string& keep);
   v1::MeshInfo info_locked(const Record& r) const;
   void touch_locked(Record& r);
-  /// Loads <data_dir>/<id>.<fmt> if present (outside the lock); nullptr if absent.
-  std::shared_ptr<Record> load_from_disk(const std::string& id);
-  std::string disk_path(const std::string& id, const std::string& format) const;
+  /// Loads the mesh from the store (outside the lock); nullptr if absent.
+  std::shared_ptr<Record> load_from_store(const std::string& id);
   std::shared_ptr<Record> lookup_or_load(const std::string& id);
   /// Parses within the limits: waits for a slot (at most the budget), then parses with a deadline.
   std::shared_ptr<Record> parse_bounded(const std::string& id, const std::string& name, const std::string& format,
                                         const std::string& bytes);
 
   const uint64_t budget_;
-  const std::string data_dir_;
+  JobStore& store_;
   Log& log_;
   std::mutex mutex_;
   std::unordered_map<std::string, std::shared_ptr<Record>> records_;

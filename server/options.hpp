@@ -17,7 +17,12 @@ struct ServerOptions {
   int max_message_bytes = 64 << 20;       ///< largest gRPC message received or sent
   double job_ttl_seconds = 3600;          ///< finished jobs are forgotten after this
   double shutdown_timeout_seconds = 10;   ///< bound on a graceful shutdown
-  std::string data_dir;                   ///< persist uploaded meshes here (optional)
+  std::string data_dir;                   ///< the SQLite store's directory when `store` is empty
+  /// "memory", "sqlite:PATH", "postgresql://..."; empty: sqlite in data_dir, or memory
+  /// when data_dir is empty too (depathd itself defaults data_dir, see main.cpp).
+  std::string store;
+  double checkpoint_seconds = 30;         ///< a running DE job saves its state this often
+  double lease_seconds = 15;              ///< a replica's claim on a job lasts this long unrenewed
   std::string auth_token;                 ///< require `authorization: Bearer TOKEN` (optional)
   std::string log_format = "text";        ///< "text" or "json"
   std::string log_level = "info";         ///< spdlog level name ("off" in quiet tests)

@@ -10,6 +10,7 @@
 #include "mesh_service.hpp"
 #include "mesh_store.hpp"
 #include "service_context.hpp"
+#include "store/job_store.hpp"
 #include "task_queue.hpp"
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
@@ -19,6 +20,7 @@
 #include <grpcpp/server_builder.h>
 
 #include <condition_variable>
+#include <filesystem>
 #include <mutex>
 #include <thread>
 
@@ -35,6 +37,22 @@ void check_options(const ServerOptions& o) {
   if (o.job_ttl_seconds < 0) bad("--job-ttl-seconds must be >= 0");
   if (o.shutdown_timeout_seconds < 0) bad("--shutdown-timeout-seconds must be >= 0");
   if (o.upload_parsers < 1) bad("upload parser threads must be >= 1");
+  if (!(o.checkpoint_seconds >= 0)) bad("--checkpoint-seconds must be >= 0 (0 = never)");
+  if (!(o.lease_seconds > 0)) bad("--lease-seconds must be > 0");
+}
+
+std::string store_uri(const ServerOptions& o) {
+  if (!o.store.empty()) return o.store;
+  if (!o.data_dir.empty()) return "sqlite:" + (std::filesystem::path(o.data_dir) / "depath.db").string();
+  return "memory";
+}
+
+std::unique_ptr<JobStore> open_store(const ServerOptions& o) {
+  try {
+    return JobStore::open(store_uri(o));
+  } catch (const StoreError& e) {
+    throw Error(ErrorCode::invalid_argument, e.what());
+  }
 }
 
 int pool_workers(const ServerOptions& o) {
@@ -51,8 +69,9 @@ struct Server::Impl {
         // The pool's callers (one driver per running job) work too, so give it one fewer
         // worker than the threads asked for.
         pool(std::max(0, pool_workers(o) - 1)),
-        meshes(o.mesh_cache_bytes, o.data_dir, log, ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
-        jobs(options, meshes, hub, pool, log),
+        store(open_store(o)),
+        meshes(o.mesh_cache_bytes, *store, log, ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
+        jobs(options, *store, meshes, hub, pool, log),
         blocking(o.upload_parsers),
         context{options, meshes, jobs, log, blocking},
         mesh_service(context),
@@ -62,6 +81,7 @@ struct Server::Impl {
   Log log;
   ThreadPool pool;
   EventHub hub;
+  std::unique_ptr<JobStore> store;
   MeshStore meshes;
   JobManager jobs;
   TaskQueue blocking;
@@ -102,7 +122,11 @@ Server::Server(const ServerOptions& options) {
                                      {"max_running_jobs", options.max_running_jobs},
                                      {"max_queued_jobs", options.max_queued_jobs},
                                      {"mesh_cache_bytes", options.mesh_cache_bytes},
-                                     {"data_dir", options.data_dir},
+                                     {"store", impl_->store->description()},
+                                     {"durable", impl_->store->durable()},
+                                     {"replica", impl_->jobs.replica_id()},
+                                     {"checkpoint_seconds", options.checkpoint_seconds},
+                                     {"lease_seconds", options.lease_seconds},
                                      {"auth", !options.auth_token.empty()}});
 }
 
@@ -131,6 +155,10 @@ bool Server::shutdown() {
   s.context.shutting_down.store(true);
   s.jobs.begin_shutdown();
   const bool clean = s.jobs.wait_idle(deadline);
+  if (s.store->durable()) {  // the jobs live on: end the watch streams now, not at the deadline
+    s.context.release_watchers.store(true);
+    s.jobs.poke_watchers();
+  }
   s.hub.flush();  // watchers now have their final events queued
   // Give open streams the rest of the budget (at least a moment) to deliver them.
   const auto grpc_deadline = std::max(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(500));

@@ -22,8 +22,10 @@ class Server {
   int port() const;
 
   /// Graceful shutdown, bounded by options.shutdown_timeout_seconds: health goes
-  /// NOT_SERVING, new work is refused with UNAVAILABLE, queued and running jobs are
-  /// cancelled (watchers get the final CANCELLED event), then the gRPC server stops.
+  /// NOT_SERVING, new work is refused with UNAVAILABLE; on a durable store running jobs
+  /// checkpoint and are handed back (they resume after a restart or on another replica),
+  /// on `memory` queued and running jobs are cancelled (watchers get the final CANCELLED
+  /// event); then the gRPC server stops.
   /// Returns false if running jobs did not stop in time. Idempotent.
   bool shutdown();
 

@@ -23,6 +23,9 @@ struct ServiceContext {
   Log& log;
   TaskQueue& blocking;  ///< for slow work (mesh parsing)
   std::atomic<bool> shutting_down{false};
+  /// Set once a durable server's jobs are handed back at shutdown: watch streams end, after
+  /// the events they have not sent yet, with UNAVAILABLE (the client reconnects).
+  std::atomic<bool> release_watchers{false};
 
   /// OK, or UNAUTHENTICATED when --auth-token is set and the call lacks
   /// `authorization: Bearer TOKEN`.

@@ -163,7 +163,7 @@ bool population_collapsed(const std::vector<double*>& agents, int n) {
 }  // namespace
 
 DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& s, ThreadPool& pool,
-                                    const DeHooks& hooks) {
+                                    const DeHooks& hooks, const DeState* resume) {
   validate_de_settings(s, problem.dimension);
   if (!problem.evaluate) throw Error(ErrorCode::invalid_argument, "DE problem has no evaluate function");
   const int N = s.population;
@@ -201,6 +201,58 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
   result.best_energy = kInf;
   int best = -1;
 
+  const de::PopulationView view{N, n, agents.data(), energies.data()};
+  result.stop_reason = "max_generations";
+  int since_improvement = 0;
+  bool restart_pending = false;
+  std::vector<double> saved_best;  // the best, while a restart keeps it out of the population
+  std::vector<double> lowest_since_restart;  // the population's lowest energy, per generation
+  int first_generation = 1;
+  // The state between generations g - 1 and g (de/checkpoint.hpp).
+  auto capture = [&](int completed) {
+    DeState st;
+    st.population = N;
+    st.dimension = n;
+    st.seed = s.seed;
+    st.strategy = s.strategy;
+    st.generation = completed;
+    st.agents.resize(static_cast<size_t>(N) * n);
+    for (int i = 0; i < N; ++i) std::copy(agents[i], agents[i] + n, st.agents.begin() + static_cast<std::ptrdiff_t>(i) * n);
+    st.energies = energies;
+    st.best_energy = result.best_energy;
+    st.best_index = best;
+    st.saved_best = saved_best;
+    st.evaluations = result.evaluations;
+    st.restarts = result.restarts;
+    st.since_improvement = since_improvement;
+    st.restart_pending = restart_pending;
+    st.lowest_since_restart = lowest_since_restart;
+    strategy->save(st.strategy_memory);
+    return st;
+  };
+  if (resume) {
+    const DeState& st = *resume;
+    if (st.population != N || st.dimension != n || st.seed != s.seed || st.strategy != s.strategy ||
+        st.generation > s.generations) {
+      throw Error(ErrorCode::invalid_argument, "DE checkpoint does not belong to this run (population, dimension, "
+                                               "seed, strategy or generations differ)");
+    }
+    for (int i = 0; i < N; ++i) {
+      std::copy_n(st.agents.begin() + static_cast<std::ptrdiff_t>(i) * n, n, agents[i]);
+    }
+    energies = st.energies;
+    result.best_energy = st.best_energy;
+    best = st.best_index;
+    saved_best = st.saved_best;
+    result.evaluations = st.evaluations;
+    result.restarts = st.restarts;
+    result.generations = st.generation;
+    since_improvement = st.since_improvement;
+    restart_pending = st.restart_pending;
+    lowest_since_restart = st.lowest_since_restart;
+    strategy->load(st.strategy_memory);
+    first_generation = st.generation + 1;
+  } else {
   // Initial population.
   pool.parallel_for(N, [&](int slot, int i) {
     if (check_cancel()) return;
@@ -219,14 +271,17 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
     }
   }
   if (best >= 0 && hooks.on_new_best) hooks.on_new_best(best);
+  }
 
-  const de::PopulationView view{N, n, agents.data(), energies.data()};
-  result.stop_reason = "max_generations";
-  int since_improvement = 0;
-  bool restart_pending = false;
-  std::vector<double> saved_best;  // the best, while a restart keeps it out of the population
-  std::vector<double> lowest_since_restart;  // the population's lowest energy, per generation
-  for (int g = 1; g <= s.generations; ++g) {
+  for (int g = first_generation; g <= s.generations; ++g) {
+    const bool suspend = hooks.suspend && hooks.suspend();
+    if (hooks.on_checkpoint && (suspend || (hooks.checkpoint_due && hooks.checkpoint_due()))) {
+      hooks.on_checkpoint(capture(g - 1));
+    }
+    if (suspend) {
+      result.stop_reason = "suspended";
+      break;
+    }
     if (check_cancel()) {
       result.stop_reason = "cancelled";
       break;

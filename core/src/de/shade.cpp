@@ -12,6 +12,8 @@
 // a random entry is overwritten once full).
 #include "de/strategy.hpp"
 
+#include "depath/util/error.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -101,6 +103,27 @@ class Shade final : public Strategy {
   }
 
   bool has_external_diversity() const override { return archive_size() > 0; }
+
+  // Layout: H values of M_F, H of M_CR, the next slot, then the archive's rows.
+  void save(std::vector<double>& out) const override {
+    out.insert(out.end(), memory_F_.begin(), memory_F_.end());
+    out.insert(out.end(), memory_CR_.begin(), memory_CR_.end());
+    out.push_back(next_slot_);
+    out.insert(out.end(), archive_.begin(), archive_.end());
+  }
+
+  void load(std::span<const double> in) override {
+    const size_t head = 2 * kMemorySize + 1;
+    const size_t rows = in.size() < head ? 0 : (in.size() - head) / n_;
+    if (in.size() < head || (in.size() - head) % n_ != 0 || rows > static_cast<size_t>(archive_capacity_) ||
+        !(in[2 * kMemorySize] >= 0 && in[2 * kMemorySize] < kMemorySize)) {
+      throw Error(ErrorCode::invalid_argument, "checkpoint's shade memory does not fit this run");
+    }
+    std::copy(in.begin(), in.begin() + kMemorySize, memory_F_.begin());
+    std::copy(in.begin() + kMemorySize, in.begin() + 2 * kMemorySize, memory_CR_.begin());
+    next_slot_ = static_cast<int>(in[2 * kMemorySize]);
+    archive_.assign(in.begin() + head, in.end());
+  }
 
   void restart() override {
     std::fill(memory_F_.begin(), memory_F_.end(), initial_F_);

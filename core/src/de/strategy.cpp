@@ -27,6 +27,10 @@ void check_strategy_name(const std::string& name) {
   throw Error(ErrorCode::invalid_argument, "unknown DE strategy '" + name + "' (valid strategies: " + list + ")");
 }
 
+void Strategy::load(std::span<const double> in) {
+  if (!in.empty()) throw Error(ErrorCode::invalid_argument, "checkpoint has strategy memory this strategy does not keep");
+}
+
 void pick_distinct(DeRandom& rng, int n, std::span<const int> exclude, std::span<int> out) {
   for (size_t k = 0; k < out.size(); ++k) {
     for (;;) {

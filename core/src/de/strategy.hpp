@@ -13,6 +13,7 @@
 #include <memory>
 #include <span>
 #include <string_view>
+#include <vector>
 
 namespace depath::de {
 
@@ -55,6 +56,11 @@ class Strategy {
   /// Serial, when the optimizer restarts a collapsed population (DeSettings::restart):
   /// forget what the adaptation learnt about the old basin.
   virtual void restart() {}
+
+  /// The state that carries from one generation to the next (checkpoints), appended to
+  /// `out`; load() restores it (throws Error(invalid_argument) if it does not fit).
+  virtual void save(std::vector<double>& out) const {}
+  virtual void load(std::span<const double> in);
 };
 
 /// Builds the strategy named settings.strategy. Throws Error(invalid_argument) naming the

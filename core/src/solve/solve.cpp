@@ -68,7 +68,7 @@ SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks)
   result.evaluations = outcome.evaluations;
   result.stop_reason = outcome.stop_reason;
   result.fmm_energy = fmm_energy;
-  const bool cancelled = outcome.stop_reason == "cancelled";
+  const bool cancelled = outcome.stop_reason == "cancelled" || outcome.stop_reason == "suspended";
   if (job.refine && !cancelled) {
     // The method's path first: with equal energies it wins.
     std::vector<SurfacePath> starts{std::move(outcome.path)};

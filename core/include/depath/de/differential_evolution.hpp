@@ -33,6 +33,8 @@
 // He) runs it over per-vertex log-densities.
 #pragma once
 
+#include "depath/de/checkpoint.hpp"
+
 #include <cstdint>
 #include <functional>
 #include <span>
@@ -137,6 +139,13 @@ struct DeHooks {
   std::function<void(int index)> on_agent_replaced;
   /// Polled before every evaluation, concurrently from pool threads (must be thread-safe).
   std::function<bool()> is_cancelled;
+  /// Checkpoints (de/checkpoint.hpp): polled on the calling thread before each generation;
+  /// true hands the state as it is then (everything a resume needs) to on_checkpoint.
+  std::function<bool()> checkpoint_due;
+  std::function<void(const DeState&)> on_checkpoint;
+  /// Polled before each generation: true stops the run there, after a checkpoint, with
+  /// stop_reason "suspended" (a server going down that will resume the run later).
+  std::function<bool()> suspend;
 };
 
 struct DeResult {
@@ -144,7 +153,7 @@ struct DeResult {
   double best_energy = 0.0;
   int generations = 0;       ///< generations completed
   int64_t evaluations = 0;
-  std::string stop_reason;   ///< "max_generations", "stalled", "converged", "cancelled"
+  std::string stop_reason;   ///< "max_generations", "stalled", "converged", "cancelled", "suspended"
   int restarts = 0;          ///< restarts on collapse (DeSettings::restart)
 };
 
@@ -165,7 +174,10 @@ void validate_de_settings(const DeSettings& settings, int dimension);
 /// Runs DE. Throws what validate_de_settings throws, and rethrows exceptions of
 /// `evaluate`. With cancellation before anything was evaluated, best is empty and
 /// best_energy +infinity.
+/// `resume`: a checkpoint of an earlier run of the same problem and settings; the run goes
+/// on from it (no initial population, no hooks for the restored agents) and ends exactly as
+/// the uninterrupted run would. Throws Error(invalid_argument) if it does not fit.
 DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& settings, ThreadPool& pool,
-                                    const DeHooks& hooks = {});
+                                    const DeHooks& hooks = {}, const DeState* resume = nullptr);
 
 }  // namespace depath

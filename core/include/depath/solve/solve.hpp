@@ -36,7 +36,7 @@ struct SolveResult {
   double seconds = 0.0;
   double fmm_energy = 0.0;    ///< energy of the `fmm` baseline path on the same problem
   std::vector<Metric> metrics;  ///< energy-specific figures (normalized energy, slope error)
-  std::string stop_reason;    ///< "converged", "max_generations", "stalled", "cancelled"
+  std::string stop_reason;    ///< "converged", "max_generations", "stalled", "cancelled", "suspended"
 };
 
 /// Hooks the caller may set; all optional.
@@ -49,6 +49,17 @@ struct SolveHooks {
   /// Pool to evaluate on (the server's shared pool). Null: solve() makes one with
   /// job.threads threads.
   ThreadPool* pool = nullptr;
+  /// Checkpoints of a `de` job (other methods take none), for exact resume elsewhere or
+  /// later: checkpoint_due is polled between generations; when true, on_checkpoint gets the
+  /// run's whole state as bytes (de/checkpoint.hpp). Both on the solving thread.
+  std::function<bool()> checkpoint_due;
+  std::function<void(std::string checkpoint)> on_checkpoint;  ///< owns the bytes (may keep them)
+  /// Polled between generations: true checkpoints and stops; the result then has
+  /// stop_reason "suspended" and is not refined.
+  std::function<bool()> suspend;
+  /// Bytes an earlier on_checkpoint gave for the same mesh and job: the run continues from
+  /// there and ends bit-identical to an uninterrupted one. Empty: start afresh.
+  std::string resume_from;
 };
 
 /// Validates and runs a job. Throws Error (invalid_argument, failed_precondition) for bad

@@ -32,6 +32,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <vector>
 
 namespace depath {
@@ -107,6 +108,30 @@ std::vector<SurfacePath> refine_starts(const MethodContext& ctx, std::vector<Sur
   return starts;
 }
 
+// A resumed run skips the initial population, so the hooks never saw the restored agents:
+// rebuild what they keep (the best path, and for refinement every agent's path) by decoding
+// the restored vectors again; decoding is deterministic, so these are the paths the
+// uninterrupted run holds at that point.
+void restore_hook_state(const MethodContext& ctx, const DeState& state, SurfacePath& best_path,
+                        std::vector<Vec3>& best_points, std::vector<SurfacePath>& agent_paths,
+                        std::vector<double>& agent_energies) {
+  PathDecoder decoder(ctx.stencils);
+  const std::vector<double> best = state.best_vector();
+  if (!best.empty() && decoder.decode_log(best, ctx.job.source, ctx.job.target, best_path)) {
+    best_points = path_positions(ctx.mesh, best_path);
+  }
+  if (agent_paths.empty()) return;
+  for (int i = 0; i < state.population; ++i) {
+    const std::span<const double> x(state.agents.data() + static_cast<size_t>(i) * state.dimension,
+                                    static_cast<size_t>(state.dimension));
+    if (decoder.decode_log(x, ctx.job.source, ctx.job.target, agent_paths[i])) {
+      agent_energies[i] = state.energies[i];
+    } else {
+      agent_paths[i].clear();
+    }
+  }
+}
+
 }  // namespace
 
 MethodOutcome run_de_method(const MethodContext& ctx) {
@@ -173,6 +198,16 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
     };
   }
   if (ctx.hooks.is_cancelled) hooks.is_cancelled = ctx.hooks.is_cancelled;
+  hooks.checkpoint_due = ctx.hooks.checkpoint_due;
+  hooks.suspend = ctx.hooks.suspend;
+  if (ctx.hooks.on_checkpoint) {
+    hooks.on_checkpoint = [&](const DeState& state) { ctx.hooks.on_checkpoint(encode_de_state(state)); };
+  }
+  std::optional<DeState> resume;
+  if (!ctx.hooks.resume_from.empty()) {
+    resume = decode_de_state(ctx.hooks.resume_from);
+    restore_hook_state(ctx, *resume, best_path, best_points, agent_paths, agent_energies);
+  }
   if (ctx.hooks.on_progress) {
     hooks.on_generation = [&](const DeGenerationReport& report) {
       Progress figures;
@@ -186,7 +221,7 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
     };
   }
 
-  DeResult result = run_differential_evolution(problem, settings, ctx.pool, hooks);
+  DeResult result = run_differential_evolution(problem, settings, ctx.pool, hooks, resume ? &*resume : nullptr);
 
   MethodOutcome outcome;
   outcome.generations = result.generations;

@@ -1,0 +1,380 @@
+#!/usr/bin/env python3
+"""The durable job store with the real binaries: depathd on SQLite (its default) and on a real
+PostgreSQL started here (initdb/pg_ctl as user postgres in a temporary directory), driven by the
+`depath` client as a user would.
+
+Checked: after kill -9 and after SIGTERM every job is listed, a finished result is fetchable, a
+running job resumes from its checkpoint and ends bit-identical (points and energy) to an
+uninterrupted in-process `depath solve`, a queued job runs, a watcher resuming with --after misses
+nothing; two replicas share PostgreSQL (takeover after kill -9, cancel across replicas, 50 jobs
+neither lost nor completed twice); TTL clean-up leaves no rows behind; clear errors for an
+unreachable store, a newer schema and a second server on one SQLite file.
+
+Liveness bounds are derived from the configured limits and scaled by DEPATH_TEST_TIME_SCALE."""
+import argparse
+import glob
+import json
+import os
+import shutil
+import signal
+import sqlite3
+import subprocess
+import sys
+import tempfile
+import time
+
+SCALE = float(os.environ.get("DEPATH_TEST_TIME_SCALE", "1"))
+# Generations of the job that gets interrupted (at generation >= 400): shorter under sanitizers.
+LONG = 2500 if SCALE <= 1 else 900
+ARGS = None
+WORK = None
+
+
+def check(cond, message):
+    if not cond:
+        raise AssertionError(message)
+
+
+def spec(seed, generations):
+    return ["-s", "0", "-t", "1400", "--population", "16", "--generations", str(generations), "--strategy", "shade",
+            "--seed", str(seed)]
+
+
+def client(*args, timeout=120):
+    return subprocess.run([ARGS.depath] + list(args), capture_output=True, text=True, timeout=timeout * SCALE)
+
+
+_refs = {}
+
+
+def reference(seed, generations):
+    """The uninterrupted in-process result."""
+    key = (seed, generations)
+    if key not in _refs:
+        out = os.path.join(WORK, "ref-%d-%d.json" % key)
+        r = client("solve", ARGS.mesh, *spec(seed, generations), "--threads", "2", "--out", out, timeout=600)
+        check(r.returncode == 0, "solve failed: " + r.stderr[-300:])
+        _refs[key] = json.load(open(out))
+    return _refs[key]
+
+
+class Daemon:
+    count = 0
+
+    def __init__(self, store_args, extra=()):
+        Daemon.count += 1
+        self.name = "d%d" % Daemon.count
+        self.port_file = os.path.join(WORK, self.name + ".port")
+        self.log_path = os.path.join(WORK, self.name + ".log")
+        self.proc = subprocess.Popen([ARGS.depathd, "--listen", "127.0.0.1:0", "--port-file", self.port_file,
+                                      "--threads", "2", "--log-format", "json", "--log-level", "debug"]
+                                     + list(store_args) + list(extra),
+                                     stdout=subprocess.DEVNULL, stderr=open(self.log_path, "w"))
+        deadline = time.monotonic() + 30 * SCALE
+        while not (os.path.exists(self.port_file) and open(self.port_file).read().strip()):
+            check(self.proc.poll() is None, "depathd exited at start: " + open(self.log_path).read()[-400:])
+            check(time.monotonic() < deadline, "depathd did not start")
+            time.sleep(0.02)
+        self.address = "127.0.0.1:" + open(self.port_file).read().strip()
+
+    def stop(self, sig=signal.SIGTERM):
+        if self.proc.poll() is None:
+            self.proc.send_signal(sig)
+            self.proc.wait(timeout=60 * SCALE)
+        return self.proc.returncode
+
+    def log_lines(self, message):
+        out = []
+        for line in open(self.log_path):
+            try:
+                entry = json.loads(line)
+            except ValueError:
+                continue
+            if entry.get("msg") == message or entry.get("message") == message or entry.get("event") == message:
+                out.append(entry)
+        return out
+
+
+def wait_checkpoint(d, job, generation):
+    """Until the daemon's log says a checkpoint at `generation` or later is stored (they are
+    written beside the run, so a slow disk can lag behind the generations watchers see)."""
+    deadline = time.monotonic() + 60 * SCALE
+    while not any(e.get("job") == job and e.get("generation", 0) >= generation for e in d.log_lines("job.checkpointed")):
+        check(time.monotonic() < deadline, "no checkpoint at generation >= %d stored" % generation)
+        time.sleep(0.05)
+
+
+def submit(d, seed, generations):
+    r = client("submit", ARGS.mesh, *spec(seed, generations), "--server", d.address)
+    check(r.returncode == 0 and r.stdout.strip().startswith("job-"), "submit failed: %s %s" % (r.stdout, r.stderr))
+    return r.stdout.strip()
+
+
+def watch_until_generation(d, job, generation):
+    """Follows the job's JSON events until `generation`; returns the last sequence seen."""
+    w = subprocess.Popen([ARGS.depath, "watch", job, "--json", "--server", d.address], stdout=subprocess.PIPE,
+                         text=True)
+    seq, gen = 0, 0
+    try:
+        for line in w.stdout:
+            e = json.loads(line)
+            seq = max(seq, e.get("sequence", 0))
+            gen = e.get("generation", gen)
+            if gen >= generation:
+                break
+    finally:
+        w.kill()
+        w.wait()
+    check(gen >= generation, "job %s ended before generation %d" % (job, generation))
+    return seq
+
+
+def events(d, job, after=0, timeout=300, codes=(0,)):
+    """The job's events until it ends; `depath watch` exits 0 only when it succeeded."""
+    r = client("watch", job, "--json", "--after", str(after), "--server", d.address, timeout=timeout)
+    check(r.returncode in codes, "watch %s failed (rc %d): %s" % (job, r.returncode, r.stderr[-300:]))
+    return [json.loads(l) for l in r.stdout.splitlines() if l.strip()]
+
+
+def final_state(evs):
+    states = [e.get("state") for e in evs if e.get("event") == "state"]
+    return states[-1] if states else None
+
+
+def result(d, job):
+    out = os.path.join(WORK, job + ".json")
+    r = client("result", job, "--out", out, "--server", d.address)
+    check(r.returncode == 0, "result %s: %s" % (job, r.stderr[-300:]))
+    return json.load(open(out))
+
+
+def same(got, ref):
+    return got["points"] == ref["points"] and got["energy"] == ref["energy"]
+
+
+def restart_durability(store_args, label):
+    """kill -9 and SIGTERM mid-job, then a restart on the same store."""
+    for sig in (signal.SIGKILL, signal.SIGTERM):
+        d = Daemon(store_args, ["--checkpoint-seconds", "0.3", "--max-running-jobs", "1"])
+        short = submit(d, 2, 20)
+        check(final_state(events(d, short)) == "succeeded", "short job did not succeed")
+        long_job = submit(d, 3, LONG)
+        queued = submit(d, 4, 150)
+        seen = watch_until_generation(d, long_job, 400)
+        wait_checkpoint(d, long_job, 300)
+        d.stop(sig)
+        t0 = time.monotonic()
+        d = Daemon(store_args, ["--checkpoint-seconds", "0.3", "--max-running-jobs", "1"])
+        try:
+            listed = client("jobs", "--server", d.address)
+            for job in (short, long_job, queued):
+                check(job in listed.stdout, "%s: %s not listed after restart" % (sig.name, job))
+            check(same(result(d, short), reference(2, 20)), "short job's result changed across the restart")
+            after = events(d, long_job, after=seen)
+            check(all(e["sequence"] > seen for e in after if "sequence" in e), "watch --after %d sent older events" % seen)
+            states = [e.get("state") for e in after if e.get("event") == "state"]
+            check(states and states[-1] == "succeeded", "%s: states after restart %s" % (sig.name, states))
+            check(sum(1 for e in after if e.get("event") == "result") == 1, "no single result event after resume")
+            took = time.monotonic() - t0
+            got = result(d, long_job)
+            check(same(got, reference(3, LONG)), "%s on %s: resumed result differs (%.12g vs %.12g)"
+                  % (sig.name, label, got["energy"], reference(3, LONG)["energy"]))
+            resumed = d.log_lines("job.resumed")
+            check(any(e.get("job") == long_job and e.get("checkpoint_generation", -1) >= 300 for e in resumed),
+                  "%s: the job did not resume from a checkpoint at generation >= 300: %s" % (sig.name, resumed))
+            check(final_state(events(d, queued)) == "succeeded", "queued job did not run after restart")
+            check(same(result(d, queued), reference(4, 150)), "queued job's result differs")
+            print("%s %s: resumed from generation %s, identical result, finished %.1f s after restart"
+                  % (label, sig.name, [e.get("checkpoint_generation") for e in resumed if e.get("job") == long_job],
+                     took))
+        finally:
+            d.stop()
+
+
+def test_sqlite():
+    data = os.path.join(WORK, "data")
+    restart_durability(["--data-dir", data], "sqlite")
+    check(os.path.exists(os.path.join(data, "depath.db")), "no depath.db in --data-dir")
+    # One writer: a second server on the same data directory is refused with a clear message.
+    first = Daemon(["--data-dir", data])
+    try:
+        r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--data-dir", data], capture_output=True,
+                           text=True, timeout=30 * SCALE)
+        check(r.returncode == 2 and "in use by another depathd" in r.stderr, "second server: " + r.stderr)
+    finally:
+        first.stop()
+
+
+def test_ttl_sqlite():
+    data = os.path.join(WORK, "ttl")
+    d = Daemon(["--data-dir", data], ["--job-ttl-seconds", "1"])
+    try:
+        job = submit(d, 2, 20)
+        events(d, job)
+        time.sleep(3 * SCALE)
+        r = client("result", job, "--out", os.path.join(WORK, "x.json"), "--server", d.address)
+        check(r.returncode != 0 and "expired" in r.stderr, "expired job: " + r.stderr)
+        r = client("result", "job-0000000000000000", "--out", os.path.join(WORK, "x.json"), "--server", d.address)
+        check(r.returncode != 0 and "not found" in r.stderr and "expired" not in r.stderr, "unknown job: " + r.stderr)
+    finally:
+        d.stop()
+    db = sqlite3.connect(os.path.join(data, "depath.db"))
+    for table in ("jobs", "events", "results", "checkpoints"):
+        rows = db.execute("SELECT COUNT(*) FROM %s" % table).fetchone()[0]
+        check(rows == 0, "%d rows left in %s after the TTL" % (rows, table))
+
+
+def test_store_errors():
+    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "postgresql://postgres@127.0.0.1:1/x"],
+                       capture_output=True, text=True, timeout=30 * SCALE)
+    check(r.returncode == 2 and "cannot connect to the PostgreSQL store" in r.stderr, "unreachable: " + r.stderr)
+    newer = os.path.join(WORK, "newer.db")
+    db = sqlite3.connect(newer)
+    db.execute("CREATE TABLE schema_version (version BIGINT NOT NULL)")
+    db.execute("INSERT INTO schema_version VALUES (999)")
+    db.commit()
+    db.close()
+    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "sqlite:" + newer], capture_output=True,
+                       text=True, timeout=30 * SCALE)
+    check(r.returncode == 2 and "newer than this depathd" in r.stderr, "newer schema: " + r.stderr)
+    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "mysql://x"], capture_output=True,
+                       text=True, timeout=30 * SCALE)
+    check(r.returncode == 2 and "unknown --store" in r.stderr, "bad uri: " + r.stderr)
+
+
+class Postgres:
+    def __init__(self, bindir):
+        self.bindir = bindir
+        self.dir = tempfile.mkdtemp(prefix="depath_pg_")
+        shutil.chown(self.dir, "postgres")
+        self.port = 20000 + os.getpid() % 20000
+        self.run("initdb", "-D", self.dir + "/data", "-A", "trust")
+        self.run("pg_ctl", "-D", self.dir + "/data", "-o", "-p %d -k %s -h 127.0.0.1" % (self.port, self.dir),
+                 "-l", self.dir + "/log", "-w", "start")
+        self.dsn = "postgresql://postgres@127.0.0.1:%d/postgres" % self.port
+
+    def run(self, tool, *args):
+        r = subprocess.run(["runuser", "-u", "postgres", "--", os.path.join(self.bindir, tool)] + list(args),
+                           capture_output=True, text=True, timeout=120)
+        check(r.returncode == 0, "%s failed: %s" % (tool, r.stderr[-400:]))
+
+    def query(self, sql):
+        r = subprocess.run([os.path.join(self.bindir, "psql"), "-At", "-d", self.dsn, "-c", sql], capture_output=True,
+                           text=True, timeout=60)
+        check(r.returncode == 0, "psql: " + r.stderr)
+        return r.stdout.strip()
+
+    def stop(self):
+        subprocess.run(["runuser", "-u", "postgres", "--", os.path.join(self.bindir, "pg_ctl"), "-D",
+                        self.dir + "/data", "-m", "fast", "stop"], capture_output=True, timeout=120)
+        shutil.rmtree(self.dir, ignore_errors=True)
+
+
+def runner_of(daemons, job):
+    """The replica whose log says it started or resumed the job last."""
+    found = None
+    for d in daemons:
+        for e in d.log_lines("job.started") + d.log_lines("job.resumed"):
+            if e.get("job") == job:
+                found = d
+    return found
+
+
+def test_postgres(pg):
+    restart_durability(["--store", pg.dsn], "postgresql")
+    store = ["--store", pg.dsn]
+    opts = ["--lease-seconds", "2", "--checkpoint-seconds", "0.3", "--max-running-jobs", "1"]
+    a = Daemon(store, opts)
+    b = None
+    try:
+        # Takeover: the replica running a job dies; the other resumes it from its checkpoint.
+        job = submit(a, 3, LONG)
+        watch_until_generation(a, job, 300)
+        b = Daemon(store, opts)
+        watch_until_generation(b, job, 400)  # live progress through the other replica
+        wait_checkpoint(a, job, 300)
+        a.stop(signal.SIGKILL)
+        t0 = time.monotonic()
+        evs = events(b, job, timeout=600)
+        check(same(result(b, job), reference(3, LONG)), "taken-over result differs from the uninterrupted one")
+        check(sum(1 for e in evs if e.get("event") == "result") == 1, "the job completed more than once")
+        check([e.get("state") for e in evs if e.get("event") == "state"].count("succeeded") == 1, "two terminal events")
+        resumed = [e for e in b.log_lines("job.resumed") if e.get("job") == job]
+        check(resumed and resumed[0].get("checkpoint_generation", -1) >= 300, "B did not resume from a checkpoint")
+        print("postgresql takeover after kill -9: resumed on the other replica from generation %d, identical, "
+              "done %.1f s later" % (resumed[0]["checkpoint_generation"], time.monotonic() - t0))
+
+        # Cancel through the replica that does not run the job.
+        a = Daemon(store, opts)
+        victim = submit(b, 5, 100000)
+        deadline = time.monotonic() + 30 * SCALE
+        while runner_of([a, b], victim) is None:
+            check(time.monotonic() < deadline, "nobody runs the job")
+            time.sleep(0.05)
+        other = a if runner_of([a, b], victim) is b else b
+        t1 = time.monotonic()
+        r = client("cancel", victim, "--server", other.address)
+        check(r.returncode == 0, "cancel: " + r.stderr)
+        evs = events(other, victim, timeout=30, codes=(130,))
+        took = time.monotonic() - t1
+        check(final_state(evs) == "cancelled", "not cancelled: %s" % final_state(evs))
+        check(took < 10 * SCALE, "cancel across replicas took %.1f s" % took)
+        print("postgresql cancel through the other replica: %.2f s" % took)
+
+        # 50 jobs over 2 replicas: none lost, none completed twice.
+        jobs = [submit(a if k % 2 else b, 100 + k, 15) for k in range(50)]
+        t2 = time.monotonic()
+        for job in jobs:
+            evs = events(a, job)
+            check([e.get("state") for e in evs if e.get("event") == "state"].count("succeeded") == 1,
+                  "job %s: %s" % (job, [e.get("state") for e in evs]))
+        finished = [e["job"] for d in (a, b) for e in d.log_lines("job.finished")]
+        for job in jobs:
+            check(finished.count(job) == 1, "job %s finished %d times" % (job, finished.count(job)))
+        print("postgresql: 50 jobs over 2 replicas in %.1f s, each finished exactly once (%d on A, %d on B)"
+              % (time.monotonic() - t2, sum(1 for e in a.log_lines("job.finished") if e["job"] in jobs),
+                 sum(1 for e in b.log_lines("job.finished") if e["job"] in jobs)))
+    finally:
+        for d in (a, b):
+            if d:
+                d.stop()
+    # TTL clean-up on PostgreSQL.
+    d = Daemon(store, ["--job-ttl-seconds", "1"])
+    try:
+        time.sleep(3 * SCALE)
+        for table in ("jobs", "events", "results", "checkpoints"):
+            check(pg.query("SELECT COUNT(*) FROM %s" % table) == "0", "rows left in %s after the TTL" % table)
+        check(int(pg.query("SELECT COUNT(*) FROM expired_jobs")) >= 50, "no tombstones for expired jobs")
+    finally:
+        d.stop()
+
+
+def main():
+    global ARGS, WORK
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--depathd", required=True)
+    ap.add_argument("--depath", required=True)
+    ap.add_argument("--mesh", required=True)
+    ARGS = ap.parse_args()
+    WORK = tempfile.mkdtemp(prefix="depath_store_")
+    try:
+        test_store_errors()
+        test_ttl_sqlite()
+        test_sqlite()
+        bindir = sorted(glob.glob("/usr/lib/postgresql/*/bin"))
+        if not bindir or not os.path.exists(os.path.join(bindir[-1], "initdb")):
+            print("SKIPPED the PostgreSQL part: no PostgreSQL server binaries (Debian package postgresql)")
+            return 0
+        pg = Postgres(bindir[-1])
+        try:
+            test_postgres(pg)
+        finally:
+            pg.stop()
+    finally:
+        shutil.rmtree(WORK, ignore_errors=True)
+    print("store tests passed")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -678,7 +678,8 @@ TEST(ServiceEvents, SlowWatcherGetsCoalescedProgressButEveryStateChange) {
 // failed parse leaves the store usable.
 TEST(ServiceMeshStore, ParseBudgetStopsAParseWithResourceExhausted) {
   service::Log log("text", "off");
-  service::MeshStore store(1ull << 30, "", log, service::ParseLimits{1, 0.0});
+  const auto memory = service::JobStore::open("memory");
+  service::MeshStore store(1ull << 30, *memory, log, service::ParseLimits{1, 0.0});
   const std::string big = grid_obj(100);  // 10,000 vertices: past the reader's first deadline check
   try {
     (void)store.add(std::string(64, 'a'), "big.obj", "obj", big);
@@ -687,7 +688,7 @@ TEST(ServiceMeshStore, ParseBudgetStopsAParseWithResourceExhausted) {
     EXPECT_EQ(e.code(), ErrorCode::resource_exhausted) << e.what();
     EXPECT_NE(std::string(e.what()).find("--parse-timeout-seconds"), std::string::npos) << e.what();
   }
-  service::MeshStore roomy(1ull << 30, "", log, service::ParseLimits{1, 600.0});
+  service::MeshStore roomy(1ull << 30, *memory, log, service::ParseLimits{1, 600.0});
   EXPECT_EQ(roomy.add(std::string(64, 'a'), "big.obj", "obj", big).num_vertices(), 10000);
   EXPECT_EQ(roomy.add(std::string(64, 'b'), "small.obj", "obj", grid_obj(3)).num_vertices(), 9);
 }

@@ -24,7 +24,7 @@ class Writer {
   }
   void put(const std::vector<double>& v) {
     put<uint64_t>(v.size());
-    out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
+    if (!v.empty()) out.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double));
   }
   void put(const std::string& s) {
     put<uint64_t>(s.size());
@@ -48,7 +48,7 @@ class Reader {
     const auto count = get<uint64_t>();
     if (count > (in_.size() - pos_) / sizeof(double)) fail("a vector runs past the end");
     std::vector<double> v(count);
-    std::memcpy(v.data(), in_.data() + pos_, count * sizeof(double));
+    if (count > 0) std::memcpy(v.data(), in_.data() + pos_, count * sizeof(double));  // data() may be null
     pos_ += count * sizeof(double);
     return v;
   }

@@ -544,14 +544,16 @@ TEST(ServiceJobs, QueueFullAnswersResourceExhausted) {
 
 TEST(ServiceJobs, FinishedJobsExpireAfterTtl) {
   auto options = quiet_options();
-  options.job_ttl_seconds = 0.3;
+  // The watch below must attach before the finished job expires: the TTL (0.3 s, times the
+  // sanitizer slow-down) leaves that pair of RPCs hundreds of times the time they take.
+  options.job_ttl_seconds = 0.3 * test::time_scale();
   TestServer ts(options);
   const std::string id = ts.upload_ok(grid_obj(6));
   const std::string job = ts.submit_ok(job_spec(id, 0, 35));
   std::vector<v1::JobEvent> events;
   ASSERT_TRUE(ts.watch(job, 0, &events).ok());
-  // The clean-up runs every min(1 s, ttl / 2 + 10 ms) = 160 ms here, so the job is gone
-  // 0.46 s after it finished; polling until then with a deadline 20x that (times the sanitizer
+  // The clean-up runs every min(1 s, ttl / 2 + 10 ms), so the job is gone at most ttl + 1 s
+  // after it finished (0.46 s in Release); polling with a deadline of 10 s (times the sanitizer
   // slow-down) cannot fail on a healthy build, and never expiring still fails it.
   v1::JobInfo info;
   const auto deadline = std::chrono::steady_clock::now() +

@@ -13,7 +13,7 @@ bin="${DEPATH_BUILD_DIR:-$root/build}"
 out="$root/out"
 mkdir -p "$out"
 port_file="$(mktemp)"
-"$bin/server/depathd" --listen 127.0.0.1:0 --port-file "$port_file" --threads "$(nproc)" \
+"$bin/server/depathd" --listen 127.0.0.1:0 --port-file "$port_file" --threads "$(nproc)" --data-dir "$out/depathd-data" \
   2> "$out/depathd.log" &
 server=$!
 trap 'kill -TERM $server 2>/dev/null; wait $server 2>/dev/null || true; rm -f "$port_file"' EXIT

@@ -20,7 +20,7 @@ void add_cancel_command(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "Print the job info as JSON");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
-    RemoteClient client(pin_to_job_replica(o->remote, o->job_id));
+    RemoteClient client(o->remote);
     auto ctx = client.context(o->remote.connect_timeout_seconds);
     v1::CancelJobRequest req;
     req.set_job_id(o->job_id);

@@ -1,12 +1,11 @@
 // SPDX-License-Identifier: MIT
-// `depath jobs`: lists the jobs of the server (of every replica, merged).
+// `depath jobs`: lists the jobs of the server (of the shared store, with several replicas).
 #include "commands.hpp"
 #include "depath/wire/job.hpp"
 #include "remote_support.hpp"
 
 #include <cstdio>
 #include <iostream>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -33,28 +32,10 @@ void add_jobs_command(CLI::App& app) {
       }
     }
     req.set_mesh_id(o->mesh_id);
-    // A multi-replica target: every replica's jobs, merged. A replica that cannot be asked is
-    // reported on stderr; only when none answers does the command fail.
-    const std::vector<RemoteOptions> replicas = replica_options(o->remote);
+    RemoteClient client(o->remote);
+    auto ctx = client.context(o->remote.connect_timeout_seconds);
     v1::ListJobsResponse reply;
-    std::optional<RemoteError> failure;
-    size_t answered = 0;
-    for (const auto& replica : replicas) {
-      RemoteClient one(replica);
-      auto ctx = one.context(o->remote.connect_timeout_seconds);
-      v1::ListJobsResponse part;
-      try {
-        one.check(one.jobs().ListJobs(ctx.get(), req, &part), "listing jobs");
-      } catch (const RemoteError& e) {
-        if (replicas.size() == 1) throw;
-        std::fprintf(stderr, "warning: %s\n", e.what());
-        if (!failure) failure = e;
-        continue;
-      }
-      ++answered;
-      for (auto& job : *part.mutable_jobs()) *reply.add_jobs() = std::move(job);
-    }
-    if (answered == 0 && failure) throw *failure;
+    client.check(client.jobs().ListJobs(ctx.get(), req, &reply), "listing jobs");
     if (o->remote.json) {
       for (const auto& job : reply.jobs()) std::cout << to_json_line(job) << '\n';
       return;

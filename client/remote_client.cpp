@@ -115,8 +115,8 @@ void add_remote_options(CLI::App& cmd, RemoteOptions& o) {
   if (const char* env = std::getenv("DEPATH_SERVER"); env && *env) o.server = env;
   if (const char* env = std::getenv("DEPATH_TOKEN"); env && *env) o.token = env;
   cmd.add_option("--server", o.server,
-                 "Server address host:port; or several replicas: dns:///host:port (all its addresses) or "
-                 "ipv4:a:port,b:port, where each job goes to one replica chosen at random (env DEPATH_SERVER)")
+                 "Server address host:port; or several replicas sharing one store: dns:///host:port (all its "
+                 "addresses) or ipv4:a:port,b:port, calls spread over them (env DEPATH_SERVER)")
       ->capture_default_str();
   cmd.add_option("--token", o.token, "Auth token sent as 'authorization: Bearer TOKEN' (env DEPATH_TOKEN)");
   cmd.add_option("--connect-timeout", o.connect_timeout_seconds, "Seconds to wait for the server")
@@ -159,56 +159,6 @@ std::vector<RemoteOptions> replica_options(const RemoteOptions& options) {
   return out;
 }
 
-RemoteOptions pin_to_random_replica(const RemoteOptions& options) {
-  std::vector<RemoteOptions> replicas = replica_options(options);
-  if (replicas.size() == 1) return replicas.front();
-  std::random_device rd;
-  std::shuffle(replicas.begin(), replicas.end(), std::mt19937(rd()));
-  // Skip a replica that refuses connections (a name can also resolve to an address nothing
-  // listens on, e.g. localhost's ::1); if none connects, the first one reports the error.
-  const auto deadline = std::chrono::system_clock::now() +
-                        std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                            std::chrono::duration<double>(options.connect_timeout_seconds));
-  for (const auto& replica : replicas) {
-    RemoteClient probe(replica);
-    const auto& channel = probe.channel();
-    auto state = channel->GetState(/*try_to_connect=*/true);
-    while (state != GRPC_CHANNEL_READY && state != GRPC_CHANNEL_TRANSIENT_FAILURE &&
-           state != GRPC_CHANNEL_SHUTDOWN && channel->WaitForStateChange(state, deadline)) {
-      state = channel->GetState(false);
-    }
-    if (state == GRPC_CHANNEL_READY) return replica;
-  }
-  return replicas.front();
-}
-
-RemoteOptions pin_to_job_replica(const RemoteOptions& options, const std::string& job_id) {
-  const std::vector<std::string> targets = replica_targets(options.server);
-  if (targets.empty()) return options;
-  std::optional<RemoteError> failure;
-  for (const auto& t : targets) {
-    RemoteOptions pinned = options;
-    pinned.server = t;
-    RemoteClient client(pinned);
-    auto ctx = client.context(options.connect_timeout_seconds);  // fails fast on a dead replica
-    v1::GetJobRequest request;
-    request.set_job_id(job_id);
-    v1::JobInfo info;
-    const grpc::Status status = client.jobs().GetJob(ctx.get(), request, &info);
-    if (status.error_code() == grpc::StatusCode::NOT_FOUND) continue;
-    if (status.ok()) return pinned;
-    try {
-      client.check(status, "looking for job " + job_id);
-    } catch (const RemoteError& e) {
-      if (!failure) failure = e;
-    }
-  }
-  if (failure) throw *failure;
-  RemoteOptions first = options;
-  first.server = targets.front();
-  return first;
-}
-
 RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(-1);
@@ -217,6 +167,8 @@ RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
   args.SetInt(GRPC_ARG_KEEPALIVE_TIME_MS, 30000);
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10000);
   if (options.server.rfind("dns:", 0) == 0 || is_address_list(options.server)) {
+    // Fail at once, naming the name, rather than after --connect-timeout of silent retries.
+    if (options.server.rfind("dns:", 0) == 0) (void)replica_targets(options.server);
     args.SetLoadBalancingPolicyName("round_robin");
   }
   channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);

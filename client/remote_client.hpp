@@ -38,19 +38,8 @@ void add_remote_options(CLI::App& cmd, RemoteOptions& options);
 /// Throws Error(unavailable) when a dns name does not resolve.
 std::vector<std::string> replica_targets(const std::string& target);
 
-/// `options` with `server` replaced by one replica chosen at random (for a new job: every
-/// call of the job then goes to that replica, and many jobs spread over the replicas), or
-/// `options` itself for a single-address target.
-RemoteOptions pin_to_random_replica(const RemoteOptions& options);
-
 /// `options` for each replica (`server` replaced), or just `options` for a single-address target.
 std::vector<RemoteOptions> replica_options(const RemoteOptions& options);
-
-/// `options` pinned to the replica that holds job `job_id`: asks each replica (GetJob) until
-/// one does not answer NOT_FOUND. For a single-address target, `options` itself. If no replica
-/// knows the job, the first one (its calls then answer NOT_FOUND); if none knows it and some
-/// could not be asked, throws that error.
-RemoteOptions pin_to_job_replica(const RemoteOptions& options, const std::string& job_id);
 
 /// Thrown for a failed call: the gRPC code and the server's message.
 class RemoteError : public Error {

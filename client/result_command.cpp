@@ -27,7 +27,7 @@ void add_result_command(CLI::App& app) {
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
     if (!o->out.empty()) check_result_path(o->out);
-    RemoteClient client(pin_to_job_replica(o->remote, o->job_id));
+    RemoteClient client(o->remote);
     const v1::JobResult result = fetch_result(client, o->job_id);
     std::unique_ptr<Mesh> mesh;
     if (!o->mesh.empty()) mesh = std::make_unique<Mesh>(load_mesh(o->mesh));

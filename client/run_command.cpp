@@ -26,9 +26,8 @@ void add_run_command(CLI::App& app) {
     o->remote.json = o->job.json;
     if (!o->job.out.empty()) check_result_path(o->job.out);  // fail before the work, not after
     const Mesh mesh = load_mesh(o->job.mesh_path, o->job.mesh_format);  // validates locally and writes the result later
-    // Every call of this job (mesh lookup/upload, submit, watch and its reconnects, result)
-    // goes to one replica, chosen at random among a multi-replica target's addresses.
-    RemoteClient client(pin_to_random_replica(o->remote));
+    // With several replicas on one shared store, any of them serves any call of the job.
+    RemoteClient client(o->remote);
     ProgressDisplay display(o->job.json);
     InterruptGuard guard;
     const auto reply = submit_job(client, o->job, o->request_id.empty() ? new_request_id() : o->request_id, false);

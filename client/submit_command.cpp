@@ -20,9 +20,7 @@ void add_submit_command(CLI::App& app) {
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
     o->remote.json = o->job.json;
-    // One replica for the whole job (mesh lookup/upload and submit); `watch`/`result`/`cancel`
-    // find it again by asking each replica.
-    RemoteClient client(pin_to_random_replica(o->remote));
+    RemoteClient client(o->remote);
     const auto reply = submit_job(client, o->job, o->request_id.empty() ? new_request_id() : o->request_id, false);
     if (o->job.json) {
       std::cout << to_json_line(reply) << '\n';

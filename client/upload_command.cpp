@@ -1,12 +1,11 @@
 // SPDX-License-Identifier: MIT
-// `depath upload MESH`: sends a mesh to depathd (every replica of a multi-replica target)
+// `depath upload MESH`: sends a mesh to depathd (to the shared store, with several replicas)
 // unless it already has it; prints the mesh id.
 #include "commands.hpp"
 #include "remote_support.hpp"
 
 #include <cstdio>
 #include <iostream>
-#include <optional>
 #include <vector>
 
 namespace depath::cli {
@@ -27,30 +26,18 @@ void add_upload_command(CLI::App& app) {
   cmd->add_flag("--json", o->remote.json, "Print the mesh info as JSON");
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
-    // A multi-replica target (dns:, ipv4:a,b): every replica gets the mesh, so a later
-    // `submit MESH_ID` works wherever it lands.
-    const std::vector<RemoteOptions> replicas = replica_options(o->remote);
-    std::optional<v1::MeshInfo> first;
-    for (const auto& replica : replicas) {
-      RemoteClient client(replica);
-      bool uploaded = true;
-      const v1::MeshInfo info = o->force ? client.upload(o->mesh, o->format) : client.ensure_mesh(o->mesh, &uploaded, o->format);
-      if (!first) first = info;
-      if (o->remote.json) continue;
-      const std::string where = replicas.size() > 1 ? " (" + replica.server + ")" : "";
-      std::fprintf(stderr, "%s %s%s: %d vertices, %d faces, %d boundary edges, %d components\n",
-                   uploaded && !info.already_present() ? "uploaded" : "already on the server:", o->mesh.c_str(),
-                   where.c_str(), info.num_vertices(), info.num_faces(), info.num_boundary_edges(),
-                   info.num_components());
-      if (&replica == &replicas.front()) {
-        for (const auto& w : info.warnings()) std::fprintf(stderr, "  warning: %s\n", w.c_str());
-      }
-    }
+    RemoteClient client(o->remote);
+    bool uploaded = true;
+    const v1::MeshInfo info = o->force ? client.upload(o->mesh, o->format) : client.ensure_mesh(o->mesh, &uploaded, o->format);
     if (o->remote.json) {
-      std::cout << to_json_line(*first) << '\n';
+      std::cout << to_json_line(info) << '\n';
       return;
     }
-    std::cout << first->id() << '\n';
+    std::fprintf(stderr, "%s %s: %d vertices, %d faces, %d boundary edges, %d components\n",
+                 uploaded && !info.already_present() ? "uploaded" : "already on the server:", o->mesh.c_str(),
+                 info.num_vertices(), info.num_faces(), info.num_boundary_edges(), info.num_components());
+    for (const auto& w : info.warnings()) std::fprintf(stderr, "  warning: %s\n", w.c_str());
+    std::cout << info.id() << '\n';
   });
 }
 

@@ -28,7 +28,7 @@ void add_watch_command(CLI::App& app) {
   add_remote_options(*cmd, o->remote);
   cmd->callback([o] {
     if (!o->out.empty()) check_result_path(o->out);
-    RemoteClient client(pin_to_job_replica(o->remote, o->job_id));
+    RemoteClient client(o->remote);
     ProgressDisplay display(o->remote.json);
     std::optional<v1::JobResult> result;
     InterruptGuard guard;

@@ -102,7 +102,8 @@ JobRecord JobManager::find(const std::string& job_id) {
     throw ServiceError(grpc::StatusCode::NOT_FOUND,
                        "job '" + job_id + "' has expired: finished jobs and their results are kept for " +
                            std::to_string(static_cast<long long>(options_.job_ttl_seconds)) +
-                           " s (--job-ttl-seconds)");
+                           " s (--job-ttl-seconds), at most " + std::to_string(options_.max_finished_jobs) +
+                           " of them (--max-finished-jobs)");
   }
   throw ServiceError(grpc::StatusCode::NOT_FOUND,
                      "job '" + job_id + "' not found: no job with this id was submitted to this store");
@@ -167,7 +168,10 @@ v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request) {
   if (request.spec().mesh_id().empty())
     throw Error(ErrorCode::invalid_argument, "the job spec has no mesh_id");
   JobSpec spec = wire::job_from_proto(request.spec());
-  auto lease = meshes_.acquire(request.spec().mesh_id());
+  // A store that keeps meshes reloads them when the job runs, so a queued job holds none
+  // in memory; the memory store cannot, so its queued jobs hold theirs, within the budget.
+  auto lease = store_.keeps_meshes() ? meshes_.acquire(request.spec().mesh_id())
+                                     : meshes_.hold_for_queue(request.spec().mesh_id());
   validate_job(lease->mesh(), spec);
   check_job_limits(options_, spec, lease->mesh().num_vertices());
 
@@ -192,7 +196,7 @@ v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request) {
   job.created = now_unix();
   auto [stored, inserted] = store_.insert_job(job, state_event(v1::JOB_STATE_QUEUED, 0, "queued"));
   if (!inserted) return existing_reply(stored);
-  {
+  if (!store_.keeps_meshes()) {
     std::lock_guard lock(mutex_);
     pins_[stored.id] = std::move(lease);  // kept in the cache until it runs
   }
@@ -721,7 +725,7 @@ void JobManager::heartbeat_loop() {
       if (store_.shared()) sync_mirrors();
       if (std::chrono::steady_clock::now() - last_reap >= seconds(reap_every)) {
         last_reap = std::chrono::steady_clock::now();
-        const int expired = store_.expire(now_unix() - options_.job_ttl_seconds);
+        const int expired = store_.expire(now_unix() - options_.job_ttl_seconds, options_.max_finished_jobs);
         if (expired > 0) log_.debug("jobs.expired", {{"count", expired}});
       }
     } catch (const StoreError& e) {

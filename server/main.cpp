@@ -43,6 +43,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--job-ttl-seconds", o.job_ttl_seconds, "How long finished jobs (and results) are kept")
       ->capture_default_str();
+  app.add_option("--max-finished-jobs", o.max_finished_jobs,
+                 "Finished jobs kept (with their results); past it the oldest are forgotten first, TTL or not")
+      ->capture_default_str()->check(CLI::NonNegativeNumber);
   app.add_option("--shutdown-timeout-seconds", o.shutdown_timeout_seconds,
                  "Bound on a graceful shutdown (SIGTERM/SIGINT)")
       ->capture_default_str();

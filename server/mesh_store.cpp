@@ -232,6 +232,25 @@ std::shared_ptr<MeshLease> MeshStore::acquire(const std::string& id) {
   return std::shared_ptr<MeshLease>(new MeshLease(this, record));
 }
 
+std::shared_ptr<MeshLease> MeshStore::hold_for_queue(const std::string& id) {
+  auto record = lookup_or_load(id);
+  std::lock_guard lock(mutex_);
+  if (record->pins == 0) {
+    uint64_t held = 0;
+    for (const auto& [other_id, other] : records_) {
+      if (other->pins > 0) held += other->memory_bytes;
+    }
+    if (held + record->memory_bytes > budget_) {
+      throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                         "mesh cache budget (--mesh-cache-bytes " + std::to_string(budget_) + ") is taken by the " +
+                             std::to_string(held) + " bytes of meshes that queued and running jobs hold; mesh " + id +
+                             " needs " + std::to_string(record->memory_bytes) + " more; try again later");
+    }
+  }
+  ++record->pins;
+  return std::shared_ptr<MeshLease>(new MeshLease(this, record));
+}
+
 void MeshStore::release(const std::shared_ptr<Record>& record) {
   std::lock_guard lock(mutex_);
   --record->pins;

@@ -91,6 +91,11 @@ class MeshStore {
   /// Pins the mesh for a job (reloading it from the store if needed). Throws NOT_FOUND.
   std::shared_ptr<MeshLease> acquire(const std::string& id);
 
+  /// Pins the mesh for a queued job of a store that cannot reload it (memory): refused
+  /// with ServiceError(RESOURCE_EXHAUSTED) when the meshes already held plus this one
+  /// would pass the budget, so queued jobs cannot grow the cache past it.
+  std::shared_ptr<MeshLease> hold_for_queue(const std::string& id);
+
   uint64_t cached_bytes();
 
  private:

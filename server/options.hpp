@@ -16,6 +16,7 @@ struct ServerOptions {
   uint64_t max_upload_bytes = 256ull << 20;
   int max_message_bytes = 64 << 20;       ///< largest gRPC message received or sent
   double job_ttl_seconds = 3600;          ///< finished jobs are forgotten after this
+  int64_t max_finished_jobs = 10000;      ///< and past this many, the oldest finished first
   double shutdown_timeout_seconds = 10;   ///< bound on a graceful shutdown
   std::string data_dir;                   ///< the SQLite store's directory when `store` is empty
   /// "memory", "sqlite:PATH", "postgresql://..."; empty: sqlite in data_dir, or memory

@@ -95,6 +95,15 @@ JobRecord job_from_row(const SqlRow& r) {
   return j;
 }
 
+// What a finished job keeps of its spec: everything but the per-vertex arrays (densities,
+// field vectors), which only the run needed; JobInfo never shows them anyway.
+std::string finished_spec_blob(const v1::JobSpec& spec) {
+  v1::JobSpec slim = spec;
+  slim.mutable_energy()->clear_density();
+  slim.mutable_energy()->clear_field();
+  return slim.SerializeAsString();
+}
+
 bool terminal(int state) {
   return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED ||
          state == v1::JOB_STATE_CANCELLED;
@@ -413,11 +422,11 @@ bool JobStore::finish(const std::string& id, const std::string& owner, const v1:
   s->exec(
       "UPDATE jobs SET state = $1, finished = $2, error_code = $3, error_message = $4, has_result = $5, "
       "last_sequence = $6, owner = NULL, lease_until = 0, started = CASE WHEN started = 0 THEN $2 ELSE "
-      "started END "
+      "started END, spec = $8 "
       "WHERE id = $7",
       {static_cast<int>(last.state().state()), last.time_unix(), last.state().error_code(),
        last.state().state() == v1::JOB_STATE_SUCCEEDED ? std::string() : last.state().message(),
-       result ? 1 : 0, static_cast<int64_t>(last.sequence()), id});
+       result ? 1 : 0, static_cast<int64_t>(last.sequence()), id, sql_blob(finished_spec_blob(job->spec))});
   if (result) {
     s->exec("INSERT INTO results (job_id, body) VALUES ($1, $2) ON CONFLICT (job_id) DO NOTHING",
             {id, sql_blob(result->SerializeAsString())});
@@ -455,9 +464,9 @@ CancelOutcome JobStore::cancel(const std::string& id, v1::JobEvent event) {
     event.set_sequence(seq);
     s->exec(
         "UPDATE jobs SET state = $1, finished = $2, error_code = $3, error_message = $4, last_sequence = $5, "
-        "seq_reserved = $5 WHERE id = $6",
+        "seq_reserved = $5, spec = $7 WHERE id = $6",
         {static_cast<int>(v1::JOB_STATE_CANCELLED), event.time_unix(), kCancelledCode,
-         event.state().message(), static_cast<int64_t>(seq), id});
+         event.state().message(), static_cast<int64_t>(seq), id, sql_blob(finished_spec_blob(job->spec))});
     s->exec("INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, 0, $3)",
             {id, static_cast<int64_t>(seq), sql_blob(event.SerializeAsString())});
     tx.commit();
@@ -482,13 +491,24 @@ std::vector<v1::JobEvent> JobStore::events_after(const std::string& id, uint64_t
   return out;
 }
 
-int JobStore::expire(double before) {
+int JobStore::expire(double before, int64_t keep_at_most) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
   auto rows =
       s->exec("SELECT id FROM jobs WHERE state IN (3, 4, 5) AND finished < $1 ORDER BY number LIMIT 1000",
               {before})
           .rows;
+  // Past the cap, the oldest finished jobs go too, TTL or not.
+  const int64_t finished = sql_int(s->exec("SELECT COUNT(*) FROM jobs WHERE state IN (3, 4, 5)").rows[0][0]);
+  const int64_t over = finished - static_cast<int64_t>(rows.size()) - std::max<int64_t>(keep_at_most, 0);
+  if (over > 0) {
+    auto oldest = s->exec(
+                       "SELECT id FROM jobs WHERE state IN (3, 4, 5) AND finished >= $1 ORDER BY finished, number "
+                       "LIMIT $2",
+                       {before, std::min<int64_t>(over, 1000)})
+                      .rows;
+    rows.insert(rows.end(), oldest.begin(), oldest.end());
+  }
   const double now = now_unix();
   for (const auto& r : rows) {
     const std::string id = sql_string(r[0]);

@@ -104,7 +104,8 @@ class JobStore {
   std::string get_checkpoint(const std::string& id);
   std::optional<v1::JobResult> get_result(const std::string& id);
   /// Terminal state, result and final events (the terminal state event last; a progress
-  /// event among them replaces the stored one) in one transaction; drops the checkpoint.
+  /// event among them replaces the stored one) in one transaction; drops the checkpoint and
+  /// the spec's per-vertex arrays (a finished job keeps only what its result needs).
   /// False (and nothing written) if the lease is lost.
   bool finish(const std::string& id, const std::string& owner, const v1::JobResult* result,
               const std::vector<v1::JobEvent>& events);
@@ -117,9 +118,10 @@ class JobStore {
   /// Events with a sequence above `after`, in order (progress: only the latest).
   std::vector<v1::JobEvent> events_after(const std::string& id, uint64_t after);
 
-  /// Removes terminal jobs finished before `before` with their events, results and
-  /// checkpoints, leaving a tombstone. Returns how many.
-  int expire(double before);
+  /// Removes terminal jobs finished before `before`, and the oldest terminal jobs past the
+  /// newest `keep_at_most`, with their events, results and checkpoints, leaving a
+  /// tombstone. Returns how many (at most about 2000 a call).
+  int expire(double before, int64_t keep_at_most);
 
  private:
   void migrate();

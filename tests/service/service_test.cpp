@@ -171,6 +171,57 @@ TEST(ServiceMeshes, LruEvictionSparesMeshesInUseAndDataDirReloads) {
   std::filesystem::remove_all(dir);
 }
 
+// Queued jobs cannot grow the mesh cache past its budget: on the memory store (which
+// cannot reload a mesh) a queued job on a new mesh is refused when the meshes already held
+// would not leave it room; on a durable store queued jobs hold no mesh at all, and the
+// mesh is reloaded when the job runs.
+TEST(ServiceMeshes, QueuedJobsHoldMeshesOnlyWithinTheCacheBudget) {
+  const std::string a = grid_obj(20, 0.3), b = grid_obj(20, 0.2);
+  uint64_t mesh_bytes = 0;
+  {
+    TestServer probe;
+    v1::MeshInfo info;
+    ASSERT_TRUE(probe.upload(a, "a.obj", &info).ok());
+    mesh_bytes = info.memory_bytes();
+  }
+  ASSERT_GT(mesh_bytes, 0u);
+  auto options = quiet_options();
+  options.max_running_jobs = 1;
+  options.mesh_cache_bytes = mesh_bytes * 3 / 2;  // room for one of the two meshes, not both
+  {
+    TestServer ts(options);
+    const std::string a_id = ts.upload_ok(a, "a.obj");
+    const std::string running = ts.submit_ok(long_job(a_id, 0, 399));
+    const std::string b_id = ts.upload_ok(b, "b.obj");  // the newest mesh stays, over budget
+    v1::SubmitJobResponse reply;
+    const auto refused = ts.submit(job_spec(b_id, 0, 399), &reply);
+    EXPECT_EQ(refused.error_code(), StatusCode::RESOURCE_EXHAUSTED);
+    EXPECT_NE(refused.error_message().find("--mesh-cache-bytes"), std::string::npos) << refused.error_message();
+    const std::string same_mesh = ts.submit_ok(job_spec(a_id, 0, 399));  // a is held already
+    EXPECT_FALSE(same_mesh.empty());
+    ts.cancel(running);
+    std::vector<v1::JobEvent> events;
+    ASSERT_TRUE(ts.watch(same_mesh, 0, &events).ok());
+    ASSERT_NE(find_terminal(events), nullptr);
+    EXPECT_EQ(find_terminal(events)->state().state(), v1::JOB_STATE_SUCCEEDED);
+  }
+  const auto dir = std::filesystem::temp_directory_path() / ("depath_budget_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  options.data_dir = dir.string();
+  {
+    TestServer ts(options);
+    const std::string a_id = ts.upload_ok(a, "a.obj"), b_id = ts.upload_ok(b, "b.obj");
+    const std::string running = ts.submit_ok(long_job(a_id, 0, 399));
+    const std::string queued = ts.submit_ok(job_spec(b_id, 0, 399));
+    ts.cancel(running);
+    std::vector<v1::JobEvent> events;
+    ASSERT_TRUE(ts.watch(queued, 0, &events).ok());
+    ASSERT_NE(find_terminal(events), nullptr);
+    EXPECT_EQ(find_terminal(events)->state().state(), v1::JOB_STATE_SUCCEEDED);
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ServiceJobs, SubmitErrorsUseTheRightCodes) {
   TestServer ts;
   const std::string grid = ts.upload_ok(grid_obj(6));
@@ -566,6 +617,36 @@ TEST(ServiceJobs, FinishedJobsExpireAfterTtl) {
   EXPECT_EQ(code, StatusCode::NOT_FOUND);
 }
 
+// Retention is bounded by count as well as by time: past --max-finished-jobs the oldest
+// finished jobs go first, and their ids then answer NOT_FOUND naming the limit.
+TEST(ServiceJobs, FinishedJobsPastTheCapAreForgottenOldestFirst) {
+  auto options = quiet_options();
+  options.max_finished_jobs = 2;
+  TestServer ts(options);
+  const std::string id = ts.upload_ok(grid_obj(6));
+  std::vector<std::string> jobs;
+  for (int i = 0; i < 4; ++i) {
+    jobs.push_back(ts.submit_ok(job_spec(id, 0, 35 - i)));
+    std::vector<v1::JobEvent> events;
+    ASSERT_TRUE(ts.watch(jobs.back(), 0, &events).ok());
+  }
+  // The clean-up runs at least once a second; 10 s (times the sanitizer slow-down) cannot
+  // fail on a healthy build, and a cap that is never applied still fails it.
+  v1::JobInfo info;
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration<double>(10.0 * test::time_scale());
+  grpc::Status second = ts.get_job(jobs[1], &info);
+  while (second.error_code() != StatusCode::NOT_FOUND && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    second = ts.get_job(jobs[1], &info);
+  }
+  EXPECT_EQ(second.error_code(), StatusCode::NOT_FOUND);
+  EXPECT_NE(second.error_message().find("--max-finished-jobs"), std::string::npos) << second.error_message();
+  EXPECT_EQ(ts.get_job(jobs[0], &info).error_code(), StatusCode::NOT_FOUND);
+  EXPECT_TRUE(ts.get_job(jobs[2], &info).ok());
+  EXPECT_TRUE(ts.get_job(jobs[3], &info).ok());
+}
+
 TEST(ServiceShutdown, MidJobEndsWatchersCleanlyAndRefusesNewWork) {
   auto ts = std::make_unique<TestServer>();
   const std::string id = ts->upload_ok(grid_obj(20));
@@ -693,6 +774,49 @@ TEST(ServiceMeshStore, ParseBudgetStopsAParseWithResourceExhausted) {
   service::MeshStore roomy(1ull << 30, *memory, log, service::ParseLimits{1, 600.0});
   EXPECT_EQ(roomy.add(std::string(64, 'a'), "big.obj", "obj", big).num_vertices(), 10000);
   EXPECT_EQ(roomy.add(std::string(64, 'b'), "small.obj", "obj", grid_obj(3)).num_vertices(), 9);
+}
+
+// A finished job keeps only what its result needs: the per-vertex arrays of its spec
+// (densities, field vectors) are dropped when it ends, whether it finished or was cancelled
+// while queued, so retention does not scale with the size of what jobs carried.
+TEST(ServiceJobStore, FinishedJobsKeepNoPerVertexArrays) {
+  const auto store = service::JobStore::open("memory");
+  auto queued_event = [](v1::JobState state) {
+    v1::JobEvent e;
+    e.mutable_state()->set_state(state);
+    return e;
+  };
+  auto carried = [](const std::string& id) {
+    service::JobRecord job;
+    job.id = id;
+    job.mesh_id = "m";
+    job.spec.set_mesh_id("m");
+    for (int i = 0; i < 1000; ++i) job.spec.mutable_energy()->add_density(1.5);
+    job.spec.mutable_energy()->add_field()->set_x(1);
+    return job;
+  };
+  store->insert_job(carried("job-run"), queued_event(v1::JOB_STATE_QUEUED));
+  store->insert_job(carried("job-cancel"), queued_event(v1::JOB_STATE_QUEUED));
+  EXPECT_EQ(store->get_job("job-run")->spec.energy().density_size(), 1000);
+  EXPECT_EQ(store->cancel("job-cancel", queued_event(v1::JOB_STATE_CANCELLED)),
+            service::CancelOutcome::cancelled_queued);
+  const auto claimed = store->claim("replica", 1.0, 60);
+  ASSERT_TRUE(claimed);
+  ASSERT_EQ(claimed->id, "job-run");
+  EXPECT_EQ(claimed->spec.energy().density_size(), 1000);  // the runner gets the whole spec
+  v1::JobEvent done = queued_event(v1::JOB_STATE_SUCCEEDED);
+  done.set_sequence(2);
+  v1::JobResult result;
+  result.set_energy(1);
+  ASSERT_TRUE(store->finish("job-run", "replica", &result, {done}));
+  for (const char* id : {"job-run", "job-cancel"}) {
+    const auto job = store->get_job(id);
+    ASSERT_TRUE(job) << id;
+    EXPECT_EQ(job->spec.energy().density_size(), 0) << id;
+    EXPECT_EQ(job->spec.energy().field_size(), 0) << id;
+    EXPECT_EQ(job->spec.mesh_id(), "m") << id;
+  }
+  EXPECT_EQ(store->get_result("job-run")->energy(), 1);
 }
 
 }  // namespace

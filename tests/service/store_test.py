@@ -280,6 +280,39 @@ def runner_of(daemons, job):
     return found
 
 
+def multi_address_target(a, b):
+    """Any client call through one target naming both replicas (as a dns:/// name with two A
+    records would): calls spread over the replicas and each finds what another stored."""
+    multi = "ipv4:%s,%s" % (a.address, b.address)
+    ref = reference(7, 15)
+    for k in range(3):
+        out = os.path.join(WORK, "multi-run-%d.json" % k)
+        r = client("run", ARGS.mesh, *spec(7, 15), "--out", out, "--server", multi)
+        check(r.returncode == 0, "run through both replicas: " + r.stderr[-300:])
+        check(same(json.load(open(out)), ref), "run through both replicas differs from the in-process solve")
+    jobs = []
+    for k in range(4):
+        r = client("submit", ARGS.mesh, *spec(7, 15), "--server", multi)
+        check(r.returncode == 0, "submit through both replicas: " + r.stderr[-300:])
+        jobs.append(r.stdout.strip())
+    for job in jobs:
+        r = client("watch", job, "--json", "--server", multi)
+        check(r.returncode == 0, "watch %s through both replicas: %s" % (job, r.stderr[-300:]))
+        out = os.path.join(WORK, job + "-multi.json")
+        r = client("result", job, "--out", out, "--server", multi)
+        check(r.returncode == 0 and same(json.load(open(out)), ref), "result %s through both replicas" % job)
+    r = client("jobs", "--json", "--server", multi)
+    listed = [json.loads(l)["job_id"] for l in r.stdout.splitlines() if l.strip()]
+    check(r.returncode == 0 and all(listed.count(j) == 1 for j in jobs), "jobs through both replicas: %s" % r.stderr)
+    victim = submit(b, 8, 100000)
+    r = client("cancel", victim, "--server", multi)
+    check(r.returncode == 0, "cancel through both replicas: " + r.stderr)
+    check(final_state(events(a, victim, timeout=30, codes=(130,))) == "cancelled", "not cancelled")
+    r = client("result", "job-unknown", "--server", multi)
+    check(r.returncode == 2 and "NOT_FOUND" in r.stderr, "unknown job through both replicas: " + r.stderr)
+    print("postgresql: run/submit/watch/result/jobs/cancel through one target naming both replicas: ok")
+
+
 def test_postgres(pg):
     restart_durability(["--store", pg.dsn], "postgresql")
     store = ["--store", pg.dsn]
@@ -334,6 +367,8 @@ def test_postgres(pg):
         print("postgresql: 50 jobs over 2 replicas in %.1f s, each finished exactly once (%d on A, %d on B)"
               % (time.monotonic() - t2, sum(1 for e in a.log_lines("job.finished") if e["job"] in jobs),
                  sum(1 for e in b.log_lines("job.finished") if e["job"] in jobs)))
+
+        multi_address_target(a, b)
     finally:
         for d in (a, b):
             if d:

@@ -76,7 +76,13 @@ JobManager::JobManager(const ServerOptions& options, JobStore& store, MeshStore&
       hub_(hub),
       pool_(pool),
       log_(log),
-      replica_(random_hex(8)) {
+      replica_(options.replica_id.empty() ? random_hex(8) : options.replica_id) {
+  // A named replica that restarts (kill -9, OOM) holds leases of its former life: its jobs
+  // go back to the queue now instead of after --lease-seconds, and resume from checkpoints.
+  if (!options.replica_id.empty()) {
+    const int released = store_.release_all(replica_);
+    if (released > 0) log_.info("jobs.released", {{"replica", replica_}, {"count", released}});
+  }
   const int drivers = std::max(1, options_.max_running_jobs);
   for (int i = 0; i < drivers; ++i) drivers_.emplace_back([this] { driver_loop(); });
   heartbeat_ = std::thread([this] { heartbeat_loop(); });

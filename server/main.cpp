@@ -79,6 +79,11 @@ int main(int argc, char** argv) {
                  "A replica's claim on a running job lasts this long without renewal; then another replica "
                  "takes the job over from its checkpoint")
       ->capture_default_str();
+  app.add_option("--replica-id", o.replica_id,
+                 "This replica's name on a shared store (e.g. a StatefulSet pod name; unique among live "
+                 "replicas). A restarted replica takes its running jobs back at once instead of after "
+                 "--lease-seconds. Default: a random name per start")
+      ->envname("DEPATHD_REPLICA_ID");
   app.add_option("--auth-token", o.auth_token,
                  "Require metadata 'authorization: Bearer TOKEN' on every call (health exempt)");
   app.add_option("--log-format", o.log_format, "Log lines as text or json")

@@ -24,6 +24,9 @@ struct ServerOptions {
   std::string store;
   double checkpoint_seconds = 30;         ///< a running DE job saves its state this often
   double lease_seconds = 15;              ///< a replica's claim on a job lasts this long unrenewed
+  /// This replica's name as a lease owner; empty: a random one. A stable name (a StatefulSet
+  /// pod's) lets a restarted replica take its own running jobs back at once, lease or not.
+  std::string replica_id;
   std::string auth_token;                 ///< require `authorization: Bearer TOKEN` (optional)
   std::string log_format = "text";        ///< "text" or "json"
   std::string log_level = "info";         ///< spdlog level name ("off" in quiet tests)

@@ -453,6 +453,15 @@ void JobStore::release(const std::string& id, const std::string& owner) {
   s->exec("UPDATE jobs SET owner = NULL, lease_until = 0 WHERE id = $1 AND owner = $2", {id, owner});
 }
 
+int JobStore::release_all(const std::string& owner) {
+  auto s = db_->session();
+  SqlTransaction tx(*s, db_->dialect());
+  const int64_t held = sql_int(s->exec("SELECT COUNT(*) FROM jobs WHERE owner = $1", {owner}).rows[0][0]);
+  s->exec("UPDATE jobs SET owner = NULL, lease_until = 0 WHERE owner = $1", {owner});
+  tx.commit();
+  return static_cast<int>(held);
+}
+
 CancelOutcome JobStore::cancel(const std::string& id, v1::JobEvent event) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());

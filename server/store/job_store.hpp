@@ -111,6 +111,8 @@ class JobStore {
               const std::vector<v1::JobEvent>& events);
   /// Gives the job back (stays queued/running) for another replica or a restart.
   void release(const std::string& id, const std::string& owner);
+  /// Gives back every job `owner` holds (a named replica's earlier life); returns how many.
+  int release_all(const std::string& owner);
 
   /// Cancels a queued job at once (storing `event`, numbered here) or asks its runner to stop.
   CancelOutcome cancel(const std::string& id, v1::JobEvent event);

@@ -61,12 +61,12 @@ def reference(seed, generations):
 class Daemon:
     count = 0
 
-    def __init__(self, store_args, extra=()):
+    def __init__(self, store_args, extra=(), port=0):
         Daemon.count += 1
         self.name = "d%d" % Daemon.count
         self.port_file = os.path.join(WORK, self.name + ".port")
         self.log_path = os.path.join(WORK, self.name + ".log")
-        self.proc = subprocess.Popen([ARGS.depathd, "--listen", "127.0.0.1:0", "--port-file", self.port_file,
+        self.proc = subprocess.Popen([ARGS.depathd, "--listen", "127.0.0.1:%d" % port, "--port-file", self.port_file,
                                       "--threads", "2", "--log-format", "json", "--log-level", "debug"]
                                      + list(store_args) + list(extra),
                                      stdout=subprocess.DEVNULL, stderr=open(self.log_path, "w"))
@@ -205,6 +205,37 @@ def test_sqlite():
         first.stop()
 
 
+def test_run_rides_through_restart():
+    """`depath run` keeps going while its server is killed (kill -9) and restarted on the same
+    address and data dir: it says it is reconnecting, then ends with the resumed job's result,
+    identical to an uninterrupted solve."""
+    data = os.path.join(WORK, "ride")
+    opts = ["--checkpoint-seconds", "0.3", "--max-running-jobs", "1"]
+    d = Daemon(["--data-dir", data], opts)
+    port = int(d.address.rsplit(":", 1)[1])
+    out = os.path.join(WORK, "ride.json")
+    run = subprocess.Popen([ARGS.depath, "run", ARGS.mesh, *spec(3, LONG), "--out", out, "--server", d.address],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 60 * SCALE
+        while not d.log_lines("job.started"):
+            check(time.monotonic() < deadline and run.poll() is None, "the run's job did not start")
+            time.sleep(0.05)
+        job = d.log_lines("job.started")[0]["job"]
+        wait_checkpoint(d, job, 300)
+        d.stop(signal.SIGKILL)
+        d = Daemon(["--data-dir", data], opts, port=port)
+        _, err = run.communicate(timeout=600 * SCALE)
+        check(run.returncode == 0, "depath run did not ride through the restart (rc %d): %s" % (run.returncode, err[-400:]))
+        check("reconnecting" in err, "no reconnecting note: " + err[-400:])
+        check(same(json.load(open(out)), reference(3, LONG)), "the run's result differs from the uninterrupted one")
+        print("sqlite: depath run rode through kill -9 and restart of its server, identical result")
+    finally:
+        if run.poll() is None:
+            run.kill()
+        d.stop()
+
+
 def test_ttl_sqlite():
     data = os.path.join(WORK, "ttl")
     d = Daemon(["--data-dir", data], ["--job-ttl-seconds", "1"])
@@ -313,8 +344,32 @@ def multi_address_target(a, b):
     print("postgresql: run/submit/watch/result/jobs/cancel through one target naming both replicas: ok")
 
 
+def named_replica_restart(pg):
+    """A replica with a stable --replica-id killed mid-job takes the job back when it restarts,
+    long before its lease (600 s here) would have let anyone else, and the result is identical."""
+    opts = ["--store", pg.dsn, "--replica-id", "replica-one", "--lease-seconds", "600", "--checkpoint-seconds", "0.3",
+            "--max-running-jobs", "1"]
+    d = Daemon(opts)
+    job = submit(d, 3, LONG)
+    watch_until_generation(d, job, 300)
+    wait_checkpoint(d, job, 300)
+    d.stop(signal.SIGKILL)
+    d = Daemon(opts)
+    try:
+        t0 = time.monotonic()
+        events(d, job, timeout=600)
+        check(same(result(d, job), reference(3, LONG)), "named replica's resumed result differs")
+        released = d.log_lines("jobs.released")
+        check(released and released[0].get("count", 0) >= 1, "the restarted replica did not release its old leases")
+        print("postgresql: named replica restarted after kill -9 took its job back (lease 600 s) and finished it "
+              "%.1f s later, identical" % (time.monotonic() - t0))
+    finally:
+        d.stop()
+
+
 def test_postgres(pg):
     restart_durability(["--store", pg.dsn], "postgresql")
+    named_replica_restart(pg)
     store = ["--store", pg.dsn]
     opts = ["--lease-seconds", "2", "--checkpoint-seconds", "0.3", "--max-running-jobs", "1"]
     a = Daemon(store, opts)
@@ -396,6 +451,7 @@ def main():
         test_store_errors()
         test_ttl_sqlite()
         test_sqlite()
+        test_run_rides_through_restart()
         bindir = sorted(glob.glob("/usr/lib/postgresql/*/bin"))
         if not bindir or not os.path.exists(os.path.join(bindir[-1], "initdb")):
             print("SKIPPED the PostgreSQL part: no PostgreSQL server binaries (Debian package postgresql)")

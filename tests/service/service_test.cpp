@@ -593,6 +593,20 @@ TEST(ServiceJobs, QueueFullAnswersResourceExhausted) {
   ts.cancel(a);
 }
 
+// GetJob's status once the job is forgotten (NOT_FOUND), or at the deadline. The clean-up
+// runs at least once a second, so 10 s (times the sanitizer slow-down) cannot pass on a
+// healthy build, and a job never forgotten still fails the caller's check.
+grpc::Status status_once_forgotten(TestServer& ts, const std::string& job) {
+  v1::JobInfo info;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(10.0 * test::time_scale());
+  grpc::Status status = ts.get_job(job, &info);
+  while (status.error_code() != StatusCode::NOT_FOUND && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    status = ts.get_job(job, &info);
+  }
+  return status;
+}
+
 TEST(ServiceJobs, FinishedJobsExpireAfterTtl) {
   auto options = quiet_options();
   // The watch below must attach before the finished job expires: the TTL (0.3 s, times the
@@ -604,17 +618,8 @@ TEST(ServiceJobs, FinishedJobsExpireAfterTtl) {
   std::vector<v1::JobEvent> events;
   ASSERT_TRUE(ts.watch(job, 0, &events).ok());
   // The clean-up runs every min(1 s, ttl / 2 + 10 ms), so the job is gone at most ttl + 1 s
-  // after it finished (0.46 s in Release); polling with a deadline of 10 s (times the sanitizer
-  // slow-down) cannot fail on a healthy build, and never expiring still fails it.
-  v1::JobInfo info;
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::duration<double>(10.0 * test::time_scale());
-  grpc::StatusCode code = ts.get_job(job, &info).error_code();
-  while (code != StatusCode::NOT_FOUND && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    code = ts.get_job(job, &info).error_code();
-  }
-  EXPECT_EQ(code, StatusCode::NOT_FOUND);
+  // after it finished (0.46 s in Release).
+  EXPECT_EQ(status_once_forgotten(ts, job).error_code(), StatusCode::NOT_FOUND);
 }
 
 // Retention is bounded by count as well as by time: past --max-finished-jobs the oldest
@@ -630,17 +635,10 @@ TEST(ServiceJobs, FinishedJobsPastTheCapAreForgottenOldestFirst) {
     std::vector<v1::JobEvent> events;
     ASSERT_TRUE(ts.watch(jobs.back(), 0, &events).ok());
   }
-  // The clean-up runs at least once a second; 10 s (times the sanitizer slow-down) cannot
-  // fail on a healthy build, and a cap that is never applied still fails it.
-  v1::JobInfo info;
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::duration<double>(10.0 * test::time_scale());
-  grpc::Status second = ts.get_job(jobs[1], &info);
-  while (second.error_code() != StatusCode::NOT_FOUND && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    second = ts.get_job(jobs[1], &info);
-  }
+  // The clean-up runs at least once a second.
+  const grpc::Status second = status_once_forgotten(ts, jobs[1]);
   EXPECT_EQ(second.error_code(), StatusCode::NOT_FOUND);
+  v1::JobInfo info;
   EXPECT_NE(second.error_message().find("--max-finished-jobs"), std::string::npos) << second.error_message();
   EXPECT_EQ(ts.get_job(jobs[0], &info).error_code(), StatusCode::NOT_FOUND);
   EXPECT_TRUE(ts.get_job(jobs[2], &info).ok());

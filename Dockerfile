@@ -3,7 +3,8 @@
 #   docker build -t depath .                  # or: podman build --format docker -t depath .
 #   docker run --rm -p 50051:50051 -v depath-data:/var/lib/depath depath
 #
-# See deploy/README.md (compose, Kubernetes, the registry-free image test).
+# See deploy/README.md (compose with SQLite or PostgreSQL, Kubernetes, the registry-free
+# image test).
 
 # ---- builder: the same packages as scripts/setup.sh, then build and unit-test ----------
 FROM debian:bookworm AS builder
@@ -61,6 +62,9 @@ ENV DEPATH_HEALTH_ADDR=127.0.0.1:50051
 HEALTHCHECK --interval=30s --timeout=5s --start-period=10s --retries=3 \
   CMD depath health --server "$DEPATH_HEALTH_ADDR"
 ENTRYPOINT ["/usr/bin/tini", "--", "/usr/local/bin/depathd"]
-# Shutdown bound 8 s < docker stop's default 10 s, so a default stop is always clean.
+# The job store is SQLite in /var/lib/depath (mount a volume there); env DEPATHD_STORE
+# (e.g. postgresql://USER@HOST:PORT/DB, password in PGPASSWORD) takes precedence over it.
+# Shutdown bound 8 s < docker stop's default 10 s, so a default stop is always clean (a
+# running job checkpoints within it and resumes after the restart).
 CMD ["--listen", "0.0.0.0:50051", "--data-dir", "/var/lib/depath", \
      "--shutdown-timeout-seconds", "8"]

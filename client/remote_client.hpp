@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The network client's plumbing: a channel to depathd (host:port, or a multi-replica target:
-// dns:///host:port or ipv4:a:p,b:p, calls spread over the replicas of a shared store), calls with the auth token, mesh upload, job watching that resumes after a
-// dropped connection, and gRPC statuses turned into depath::Error messages.
+// dns:///host:port or ipv4:a:p,b:p, calls spread over the replicas of a shared store), calls
+// with the auth token, mesh upload, job watching that resumes after a dropped connection, and
+// gRPC statuses turned into depath::Error messages.
 #pragma once
 
 #include "depath/util/error.hpp"

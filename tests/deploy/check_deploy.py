@@ -518,8 +518,15 @@ def check_compose(root, variant, problems):
     pg = doc.get("services", {}).get("postgres")
     if not problems.check(pg is not None, "compose.postgres.yaml has no postgres service"):
         return
-    problems.check(re.search(r"(^|/)postgres:15\b", str(pg.get("image", ""))) is not None,
-                   "postgres service should use the postgres:15 image")
+    # Built from Debian's packages (deploy/postgres), like depath's own image: no registry.
+    build = pg.get("build", {})
+    context = build.get("context") if isinstance(build, dict) else build
+    problems.check(context is not None and (root / "deploy" / str(context) / "Dockerfile").is_file(),
+                   "postgres service should be built from deploy/postgres/Dockerfile")
+    if context is not None and (root / "deploy" / str(context) / "Dockerfile").is_file():
+        dockerfile = (root / "deploy" / str(context) / "Dockerfile").read_text()
+        problems.check("FROM debian:bookworm" in dockerfile and "postgresql-15" in dockerfile,
+                       "deploy/postgres/Dockerfile should install Debian 12's postgresql-15")
     problems.check("pg_isready" in " ".join(map(str, pg.get("healthcheck", {}).get("test", []))),
                    "postgres healthcheck must run pg_isready")
     pg_vols = [str(v).split(":") for v in pg.get("volumes", [])]

@@ -93,6 +93,12 @@ HttpServer::HttpServer(ServiceContext& service) : impl_(std::make_unique<Impl>(s
   ctx.max_event_streams = std::max(1, threads - 4);
   server.new_task_queue = [threads] { return new httplib::ThreadPool(static_cast<size_t>(threads)); };
   server.set_payload_max_length(std::max<uint64_t>(o.max_upload_bytes, static_cast<uint64_t>(o.max_message_bytes)));
+  // SO_REUSEADDR only: httplib's default adds SO_REUSEPORT, with which a second server (or a
+  // gRPC server, which sets it too) could bind the same port and take half the connections.
+  server.set_socket_options([](socket_t sock) {
+    int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, reinterpret_cast<const void*>(&yes), sizeof(yes));
+  });
   server.set_read_timeout(5);
   server.set_write_timeout(5);
   server.set_logger([&ctx](const httplib::Request& req, const httplib::Response& res) {

@@ -95,6 +95,21 @@ TEST(HttpListener, ServesHttpsWithTheGivenCertificate) {
   fs::remove_all(dir);
 }
 
+TEST(HttpListener, APortInUseIsRefused) {
+  service::ServerOptions o = quiet_options();
+  o.store = "memory";
+  o.http_listen = "127.0.0.1:0";
+  service::Server first(o);
+  ASSERT_GT(first.http_port(), 0);
+  o.http_listen = "127.0.0.1:" + std::to_string(first.http_port());
+  try {
+    service::Server second(o);
+    ADD_FAILURE() << "a second server bound the HTTP port " << first.http_port();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot listen for HTTP"), std::string::npos) << e.what();
+  }
+}
+
 TEST(HttpListener, RefusesBadAddresses) {
   service::ServerOptions o = quiet_options();
   o.store = "memory";

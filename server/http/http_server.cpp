@@ -99,6 +99,10 @@ HttpServer::HttpServer(ServiceContext& service) : impl_(std::make_unique<Impl>(s
     int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, reinterpret_cast<const void*>(&yes), sizeof(yes));
   });
+  // Small answers and event frames go out at once (Nagle + delayed ACK cost ~40 ms a request),
+  // and a keep-alive connection serves many requests (a page polling, a scraper).
+  server.set_tcp_nodelay(true);
+  server.set_keep_alive_max_count(1000);
   server.set_read_timeout(5);
   server.set_write_timeout(5);
   server.set_logger([&ctx](const httplib::Request& req, const httplib::Response& res) {

@@ -20,7 +20,6 @@ export class ConvergenceChart {
       {
         width,
         height: 260,
-        title: 'Convergence',
         scales: { x: { time: false } },
         axes: [{ label: 'generation' }, { label: 'energy', size: 70 }],
         series: [
@@ -63,6 +62,7 @@ export class ConvergenceChart {
       this.pending = false;
       this.plot.setData([this.generations, this.best, this.mean]);
       this.container.dataset.points = String(this.generations.length);
+      this.container.dataset.lastGeneration = String(this.generations[this.generations.length - 1] ?? '');
       this.lastDrawAt = performance.now();
       if (this.onDraw) this.onDraw(this.generations.length, this.lastDrawAt);
     });

@@ -19,13 +19,12 @@ export function renderJobPage(root, jobId, status) {
   const figuresEl = h('table', { id: 'figures', class: 'figures' });
   const downloadsEl = h('p', { id: 'downloads', class: 'downloads' });
   const cancelButton = h('button', { id: 'cancel', type: 'button', hidden: true }, 'Cancel job');
-  const fieldToggle = h('label', { id: 'field-toggle', hidden: true }, h('input', { type: 'checkbox' }), ' show field');
   root.replaceChildren(
     h('p', {}, h('a', { href: '/', onclick: (e) => { e.preventDefault(); navigate('/'); } }, '← all jobs')),
     h('h1', {}, 'Job ', h('code', { id: 'job-id' }, jobId)),
     h('p', { class: 'status-line' }, 'State: ', stateEl, ' ', progressEl, ' ', cancelButton),
     h('div', { class: 'panels' },
-      h('section', { class: 'panel' }, h('h2', {}, 'Surface and path'), viewEl, fieldToggle),
+      h('section', { class: 'panel' }, h('h2', {}, 'Surface and path'), viewEl),
       h('section', { class: 'panel' }, h('h2', {}, 'Convergence'), chartEl, h('h2', {}, 'Result'), figuresEl, downloadsEl)),
   );
 
@@ -84,14 +83,17 @@ export function renderJobPage(root, jobId, status) {
 
   const onEvent = (ev) => {
     const d = ev.data || {};
-    if (ev.event === 'progress') {
+    if (ev.event === 'progress' || ev.event === 'path') {
+      // A path event is a progress event that also carries the best path so far.
       live.progressEvents++;
       live.lastProgressReceivedAt = ev.receivedAt;
       chart.add(d.generation, d.best_energy, d.mean_energy);
-      showProgress({ ...d, generations: d.generations ?? spec?.generations });
-    } else if (ev.event === 'path') {
-      live.pathEvents++;
-      if (!finished) view.setPath(d.points || (d.path && d.path.points));
+      showProgress({ ...d, generations: d.generations || spec?.generations });
+      const points = d.path ? d.path.points : d.points;
+      if (ev.event === 'path' && points && !finished) {
+        live.pathEvents++;
+        view.setPath(points);
+      }
     } else if (ev.event === 'state') {
       setState(d.state);
       if (d.error) showError(d.error);
@@ -121,6 +123,7 @@ export function renderJobPage(root, jobId, status) {
       view.setGeometry(geometry.vertices, geometry.faces);
       view.setMarker('s', spec.source);
       view.setMarker('t', spec.target);
+      view.lookAtVertices([spec.source, spec.target]);
       if (job.result) view.setPath(job.result.points, { final: true });
     } catch (e) {
       status(`Cannot load the mesh: ${e.message}`, true);

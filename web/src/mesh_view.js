@@ -53,6 +53,8 @@ export class MeshView {
     geometry.computeBoundingSphere();
     const material = new THREE.MeshStandardMaterial({
       color: 0xc8ccd6, roughness: 0.75, metalness: 0.0, side: THREE.DoubleSide, flatShading: false,
+      // The surface is pushed back in depth so the path lying on it is never hidden by it.
+      polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
     });
     if (this.mesh) this.scene.remove(this.mesh);
     this.mesh = new THREE.Mesh(geometry, material);
@@ -83,6 +85,34 @@ export class MeshView {
     this.requestRender();
   }
 
+  /// Turns the camera (same target and distance) to look at the surface around the given
+  /// vertices from outside: along their mean normal, or from the centre through them.
+  lookAtVertices(ids) {
+    const normals = this.mesh.geometry.getAttribute('normal');
+    const dir = new THREE.Vector3();
+    const mid = new THREE.Vector3();
+    let n = 0;
+    for (const id of ids) {
+      if (id === null || id === undefined || id < 0 || id >= normals.count) continue;
+      dir.add(new THREE.Vector3().fromBufferAttribute(normals, id));
+      mid.add(this.vertex(id));
+      ++n;
+    }
+    if (!n) return;
+    mid.divideScalar(n);
+    if (dir.length() < 0.3 * n) dir.copy(mid).sub(this.center);
+    if (dir.lengthSq() === 0) return;
+    dir.normalize();
+    const distance = this.camera.position.distanceTo(this.controls.target);
+    this.camera.position.copy(this.center).addScaledVector(dir, distance);
+    this.camera.up.set(0, Math.abs(dir.y) > 0.9 ? 0 : 1, Math.abs(dir.y) > 0.9 ? 1 : 0);
+    this.camera.lookAt(this.center);
+    this.controls.update();
+    const side = new THREE.Vector3().crossVectors(dir, this.camera.up).normalize();
+    this.light.position.copy(this.camera.position).addScaledVector(this.camera.up, 0.5 * distance).addScaledVector(side, 0.3 * distance);
+    this.requestRender();
+  }
+
   cameraState() {
     return {
       position: this.camera.position.toArray(),
@@ -110,8 +140,6 @@ export class MeshView {
     geometry.setPositions(points.flat());
     const material = new LineMaterial({ color: final ? 0xdb1414 : 0xf08a24, linewidth: final ? 4 : 3 });
     material.resolution.set(this.renderer.domElement.width, this.renderer.domElement.height);
-    material.depthTest = true;
-    material.polygonOffset = true;
     this.pathLine = new Line2(geometry, material);
     this.pathLine.renderOrder = 1;
     this.scene.add(this.pathLine);

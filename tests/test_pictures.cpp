@@ -83,9 +83,9 @@ TEST_F(Pictures, PathAndEndpointsAreWhereTheCameraProjectsThem) {
   EXPECT_NEAR(camera.view().z(), 1.0, 1e-12);
   EXPECT_NEAR(camera.right().x(), 1.0, 1e-12);
   EXPECT_NEAR(camera.up().y(), 1.0, 1e-12);
-  // Framed: the path spans 4.8 x 3.6 units and fills 1/1.15 of the picture's limiting side.
+  // Framed: the path spans 4.8 x 3.6 units and fills 1/1.25 of the picture's limiting side.
   const auto s = camera.project(path.front()), t = camera.project(path.back());
-  EXPECT_NEAR(t.x - s.x, 640 / 1.15, 1e-6);
+  EXPECT_NEAR(t.x - s.x, 640 / 1.25, 1e-6);
   EXPECT_NEAR(s.y - t.y, 3.6 * camera.pixels_per_unit(), 1e-6);
   EXPECT_NEAR((s.x + t.x) / 2, 320, 1e-6);
   EXPECT_NEAR((s.y + t.y) / 2, 240, 1e-6);

@@ -74,8 +74,8 @@ OrthoCamera frame_on_path(const Mesh& mesh, const std::vector<Vec3>& path, int w
   }
   const Vec3 center = path_center + probe.right() * (lo_x + hi_x) / 2 + probe.up() * (lo_y + hi_y) / 2;
   const double min_half = 0.125 * box.diagonal();
-  const double half_x = std::max(1.15 * (hi_x - lo_x) / 2, min_half);
-  const double half_y = std::max(1.15 * (hi_y - lo_y) / 2, min_half);
+  const double half_x = std::max(1.25 * (hi_x - lo_x) / 2, min_half);
+  const double half_y = std::max(1.25 * (hi_y - lo_y) / 2, min_half);
   const double scale = std::min(width / (2 * half_x), height / (2 * half_y));
   return OrthoCamera(center, view, scale, width, height);
 }

@@ -40,7 +40,7 @@ class OrthoCamera {
 
 /// Camera framed on `path` (at least two points): looks along the area-weighted mean normal of
 /// the faces around the path's vertices (or from the mesh's centre through the path's centre
-/// when the normals cancel out); the frame holds the path with a 15% margin and at least a
+/// when the normals cancel out); the frame holds the path with a 25% margin and at least a
 /// quarter of the mesh's diagonal.
 OrthoCamera frame_on_path(const Mesh& mesh, const std::vector<Vec3>& path, int width, int height);
 

@@ -44,7 +44,7 @@ std::vector<ConvergencePoint> read_progress_lines(const std::string& file) {
 
 namespace {
 
-constexpr size_t kMaxMarkers = 400;
+constexpr size_t kMaxMarkers = 200;
 
 struct Axis {
   double lo = 0, hi = 1;

@@ -6,7 +6,7 @@
 // lines whose "event" is "progress" are plotted, other events are skipped). Outputs: the
 // picture. Guarantees: each series is one stroked polyline with exactly one vertex per progress
 // line (Cairo merges collinear runs of it); Error(invalid_argument) naming the file and line for a missing
-// file, a line that is not JSON, or no progress at all. With at most 400 generations each one also gets a
+// file, a line that is not JSON, or no progress at all. With at most 200 generations each one also gets a
 // disc marker (one filled path each in the SVG, in the series' colour).
 #pragma once
 

@@ -69,13 +69,14 @@ struct JobManager::Running {
 };
 
 JobManager::JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub,
-                       ThreadPool& pool, Log& log)
+                       ThreadPool& pool, Log& log, ServiceMetrics* metrics)
     : options_(options),
       store_(store),
       meshes_(meshes),
       hub_(hub),
       pool_(pool),
       log_(log),
+      metrics_(metrics),
       replica_(random_hex(8)) {
   const int drivers = std::max(1, options_.max_running_jobs);
   for (int i = 0; i < drivers; ++i) drivers_.emplace_back([this] { driver_loop(); });
@@ -507,7 +508,31 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   };
   const double persist_every = store_.shared() ? kSharedProgressSeconds : kLocalProgressSeconds;
   auto last_persist = std::chrono::steady_clock::time_point{};
+  // Metrics: evaluations and generations since the last report, and one sample of the time
+  // an evaluation takes (the generation's wall time x this job's share of the threads).
+  int64_t counted_evaluations = 0;
+  int counted_generation = std::max(0, resumed_generation);
+  auto last_report = std::chrono::steady_clock::now();
+  auto count_progress = [&](const Progress& p) {
+    if (!metrics_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (counted_evaluations == 0 && resumed_generation >= 0) counted_evaluations = p.evaluations;  // counted before
+    const int64_t evaluations = p.evaluations - counted_evaluations;
+    const int generations = std::max(0, p.generation - counted_generation);
+    double sample = -1;
+    if (evaluations > 0 && counted_evaluations > 0) {
+      const int sharing = std::max(1, running_jobs());
+      const double threads = static_cast<double>(pool_.num_slots()) / sharing;
+      sample = std::chrono::duration<double>(now - last_report).count() * std::max(1.0, threads) /
+               static_cast<double>(evaluations);
+    }
+    metrics_->job_progress(std::max<int64_t>(0, evaluations), generations, sample);
+    counted_evaluations = std::max(counted_evaluations, p.evaluations);
+    counted_generation = std::max(counted_generation, p.generation);
+    last_report = now;
+  };
   hooks.on_progress = [&](const Progress& p) {
+    count_progress(p);
     v1::JobEvent ev;
     wire::progress_to_proto(mesh, p, ev.mutable_progress());
     {
@@ -528,6 +553,8 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   std::string stop_reason;
   try {
     SolveResult r = solve(mesh, spec, hooks);
+    if (metrics_ && r.evaluations > counted_evaluations)  // evaluations after the last report (refinement)
+      metrics_->job_progress(r.evaluations - counted_evaluations, 0, -1);
     stop_reason = r.stop_reason;
     result = std::make_shared<v1::JobResult>();
     wire::result_to_proto(mesh, r, result.get());
@@ -599,6 +626,7 @@ void JobManager::finish(Running& run, v1::JobState state, int code, const std::s
     return;
   }
   for (auto& ev : events) run.log->publish(std::move(ev));
+  if (metrics_) metrics_->job_finished(wire::state_name(state));
   nlohmann::json fields = {
       {"job", run.id}, {"state", wire::state_name(state)}, {"seconds", now - run.started}};
   if (result) {
@@ -682,6 +710,15 @@ int JobManager::queued_jobs() {
     return static_cast<int>(store_.count_queued());
   } catch (const StoreError&) {
     return 0;
+  }
+}
+
+bool JobManager::store_reachable() {
+  try {
+    store_.count_queued();
+    return true;
+  } catch (const std::exception&) {
+    return false;
   }
 }
 

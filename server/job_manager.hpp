@@ -30,6 +30,7 @@
 #include "event_log.hpp"
 #include "log.hpp"
 #include "mesh_store.hpp"
+#include "metrics/service_metrics.hpp"
 #include "options.hpp"
 #include "store/job_store.hpp"
 
@@ -37,8 +38,9 @@ namespace depath::service {
 
 class JobManager {
  public:
+  /// `metrics` (optional) gets evaluations, generations and decode-time samples of the runs.
   JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub,
-             ThreadPool& pool, Log& log);
+             ThreadPool& pool, Log& log, ServiceMetrics* metrics = nullptr);
   ~JobManager();  ///< stops (as begin_shutdown) and joins the threads
   JobManager(const JobManager&) = delete;
   JobManager& operator=(const JobManager&) = delete;
@@ -63,6 +65,8 @@ class JobManager {
 
   int running_jobs();
   int queued_jobs();
+  /// True when the store answers a query (readiness).
+  bool store_reachable();
   const std::string& replica_id() const { return replica_; }
 
  private:
@@ -86,6 +90,7 @@ class JobManager {
   EventHub& hub_;
   ThreadPool& pool_;
   Log& log_;
+  ServiceMetrics* metrics_;
   const std::string replica_;  // this process's identity as a lease owner
 
   std::mutex mutex_;

@@ -21,6 +21,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
   WatchReactor(ServiceContext& ctx, std::shared_ptr<EventLog> log, uint64_t after_sequence)
       : ctx_(ctx), log_(std::move(log)), cursor_(after_sequence), sub_(std::make_shared<Subscriber>(this)) {
     log_->subscribe(sub_);
+    ctx_.metrics.watcher_started("grpc");
     std::lock_guard lock(sub_->mutex);
     pump_locked();
     grpc_handoff(this);  // a write started here waits for the handler to return
@@ -64,6 +65,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
         sub_->reactor = nullptr;
       }
       log_->unsubscribe(sub_);
+      ctx_.metrics.watcher_ended("grpc");
     }
     delete this;
   }

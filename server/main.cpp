@@ -85,6 +85,19 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}))
       ->capture_default_str();
   app.add_option("--port-file", port_file, "Write the port listened on to this file once serving");
+  std::string http_port_file;
+  app.add_option("--http-listen", o.http_listen,
+                 "Serve HTTP on HOST:PORT (off unless given): /metrics (Prometheus), /healthz, /readyz, the JSON + "
+                 "Server-Sent-Events API under /v1/ and the web page (/, /jobs/JOB_ID)");
+  app.add_option("--web-root", o.web_root,
+                 "Directory of the web page's files (index.html, assets/). Default: 'web' beside the depathd "
+                 "executable if it exists, else a plain HTML view");
+  app.add_option("--http-threads", o.http_threads,
+                 "HTTP worker threads; each open event stream holds one (streams beyond threads - 4 get 503)")
+      ->capture_default_str()->check(CLI::Range(2, 1024));
+  app.add_option("--http-port-file", http_port_file, "Write the HTTP port to this file once serving");
+  // TLS for HTTP: options.http_tls_cert / http_tls_key (HttpServer serves HTTPS when set) are
+  // meant to take the gRPC side's --tls-cert / --tls-key once those flags exist here.
   CLI11_PARSE(app, argc, argv);
   if (o.store.empty() && o.data_dir.empty()) o.data_dir = default_data_dir();
   if (o.store.empty() && o.data_dir.empty()) {
@@ -109,6 +122,10 @@ int main(int argc, char** argv) {
   if (!port_file.empty()) {
     std::ofstream(port_file + ".tmp") << server->port() << '\n';
     std::rename((port_file + ".tmp").c_str(), port_file.c_str());
+  }
+  if (!http_port_file.empty() && server->http_port() > 0) {
+    std::ofstream(http_port_file + ".tmp") << server->http_port() << '\n';
+    std::rename((http_port_file + ".tmp").c_str(), http_port_file.c_str());
   }
   int sig = 0;
   sigwait(&signals, &sig);

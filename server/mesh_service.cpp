@@ -2,14 +2,12 @@
 #include "mesh_service.hpp"
 
 #include "depath/util/error.hpp"
-#include "depath/io/mesh_reader.hpp"
 #include "depath/wire/wire.hpp"
 #include "grpc_handoff.hpp"
+#include "mesh_upload.hpp"
 #include "service_error.hpp"
 #include "unary_call.hpp"
 
-#include <algorithm>
-#include <cctype>
 #include <mutex>
 
 namespace depath::service {
@@ -41,15 +39,9 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
       const auto& h = request_.header();
       name_ = h.file_name().empty() ? "upload" : h.file_name();
       try {
-        format_ = h.format().empty() ? mesh_format_from_path(name_) : h.format();
-      } catch (const std::exception& e) {
-        return fail({grpc::StatusCode::INVALID_ARGUMENT,
-                     std::string(e.what()) + " (set the header's format to obj, off, ply or stl)"});
-      }
-      std::transform(format_.begin(), format_.end(), format_.begin(), [](unsigned char c) { return std::tolower(c); });
-      if (format_ != "obj" && format_ != "off" && format_ != "ply" && format_ != "stl") {
-        return fail({grpc::StatusCode::INVALID_ARGUMENT,
-                     "unknown mesh format '" + h.format() + "' (expected obj, off, ply or stl)"});
+        format_ = upload_format(name_, h.format());
+      } catch (const ServiceError& e) {
+        return fail({e.code(), e.what()});
       }
       if (h.size_bytes() > ctx_.options.max_upload_bytes) return fail(too_big(h.size_bytes()));
       if (h.size_bytes() > 0) bytes_.reserve(h.size_bytes());
@@ -73,11 +65,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   }
 
  private:
-  grpc::Status too_big(uint64_t n) const {
-    return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-            "mesh upload of " + std::to_string(n) + " bytes (or more) exceeds the server's limit of " +
-                std::to_string(ctx_.options.max_upload_bytes) + " bytes (--max-upload-bytes)"};
-  }
+  grpc::Status too_big(uint64_t n) const { return upload_too_big(ctx_.options, n); }
 
   void fail(const grpc::Status& s) {
     ctx_.log.info("mesh.upload_refused", {{"peer", peer_}, {"code", wire::status_code_name(s.error_code())},
@@ -92,19 +80,9 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
     ctx_.blocking.post([this] {
       grpc::Status status;
       try {
-        const std::string id = wire::sha256_hex(bytes_);
-        *reply_ = ctx_.meshes.add(id, name_, format_, bytes_);
-        ctx_.log.info("mesh.uploaded", {{"mesh", id},
-                                        {"name", name_},
-                                        {"bytes", bytes_.size()},
-                                        {"vertices", reply_->num_vertices()},
-                                        {"faces", reply_->num_faces()},
-                                        {"already_present", reply_->already_present()}});
+        *reply_ = store_upload(ctx_, name_, format_, bytes_, "grpc", peer_);
       } catch (...) {
         status = current_exception_status();
-        ctx_.log.info("mesh.upload_refused", {{"peer", peer_}, {"name", name_},
-                                              {"code", wire::status_code_name(status.error_code())},
-                                              {"reason", status.error_message()}});
       }
       std::string().swap(bytes_);
       grpc_handoff(this);

@@ -118,6 +118,7 @@ void MeshStore::evict_locked(const std::string& keep) {
     log_.info("mesh.evicted", {{"mesh", r.id}, {"memory_bytes", r.memory_bytes}, {"cache_bytes", bytes_},
                                {"budget_bytes", budget_}});
     bytes_ -= r.memory_bytes;
+    ++stats_.evictions;
     r.in_cache = false;
     it = lru_.erase(it);
     records_.erase(rec_it);
@@ -152,9 +153,11 @@ std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
     std::unique_lock lock(mutex_);
     auto it = records_.find(id);
     if (it != records_.end()) {
+      ++stats_.hits;
       touch_locked(*it->second);
       return it->second;
     }
+    ++stats_.misses;
     auto loading = loading_.find(id);
     if (loading != loading_.end()) {
       auto pending = loading->second;
@@ -242,6 +245,14 @@ void MeshStore::release(const std::shared_ptr<Record>& record) {
 uint64_t MeshStore::cached_bytes() {
   std::lock_guard lock(mutex_);
   return bytes_;
+}
+
+MeshCacheStats MeshStore::cache_stats() {
+  std::lock_guard lock(mutex_);
+  MeshCacheStats s = stats_;
+  s.bytes = bytes_;
+  s.meshes = records_.size();
+  return s;
 }
 
 }  // namespace depath::service

@@ -63,6 +63,15 @@ struct ParseLimits {
   double budget_seconds = 60;  ///< per parse, and the longest wait for a slot
 };
 
+/// Counters of the cache since the start (for /metrics).
+struct MeshCacheStats {
+  uint64_t bytes = 0;      ///< memory of the cached meshes now
+  uint64_t meshes = 0;     ///< meshes cached now
+  uint64_t hits = 0;       ///< lookups (get, job pins) answered from memory
+  uint64_t misses = 0;     ///< lookups that went to the store (reload) or found nothing
+  uint64_t evictions = 0;  ///< meshes dropped to stay within the budget
+};
+
 class MeshStore {
  public:
   /// `store` keeps the bytes when store.keeps_meshes(); else the cache is all there is.
@@ -92,6 +101,7 @@ class MeshStore {
   std::shared_ptr<MeshLease> acquire(const std::string& id);
 
   uint64_t cached_bytes();
+  MeshCacheStats cache_stats();
 
  private:
   friend class MeshLease;
@@ -116,6 +126,7 @@ class MeshStore {
   std::unordered_map<std::string, std::shared_ptr<Record>> records_;
   std::list<std::string> lru_;  // most recent first
   uint64_t bytes_ = 0;
+  MeshCacheStats stats_;  // hits, misses, evictions (guarded by mutex_)
   // Reloads in flight, so that concurrent requests for one mesh wait for a single parse.
   std::unordered_map<std::string, std::shared_future<std::shared_ptr<Record>>> loading_;
 

@@ -32,6 +32,13 @@ struct ServerOptions {
   uint64_t max_generations = 1000000;     ///< per DE job; more: RESOURCE_EXHAUSTED at submit
   uint64_t max_evaluations = 100000000;   ///< population x (generations + 1) per DE job
   uint64_t max_job_memory_bytes = 1ull << 30;  ///< estimate population x vertices x 16 bytes per job
+  // The HTTP face (server/http/): /metrics, /healthz, /readyz, /v1 JSON + SSE, the web page.
+  std::string http_listen;                ///< host:port; empty = off; port 0 picks a free port
+  std::string web_root;                   ///< the web page's files; empty: `web` beside the executable
+  int http_threads = 16;                  ///< HTTP worker threads (each open event stream holds one)
+  /// TLS for the HTTP listener (both or neither): PEM certificate chain and private key.
+  /// Hook for the gRPC side's --tls-cert/--tls-key, to be wired to the same flags.
+  std::string http_tls_cert, http_tls_key;
 };
 
 }  // namespace depath::service

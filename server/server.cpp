@@ -3,12 +3,16 @@
 
 #include "depath/util/error.hpp"
 #include "depath/util/thread_pool.hpp"
+#include "depath/wire/wire.hpp"
 #include "event_log.hpp"
+#include "http/http_server.hpp"
 #include "job_manager.hpp"
 #include "job_service.hpp"
 #include "log.hpp"
 #include "mesh_service.hpp"
 #include "mesh_store.hpp"
+#include "metrics/rpc_interceptor.hpp"
+#include "metrics/service_metrics.hpp"
 #include "service_context.hpp"
 #include "store/job_store.hpp"
 #include "task_queue.hpp"
@@ -20,6 +24,7 @@
 #include <grpcpp/server_builder.h>
 
 #include <condition_variable>
+#include <map>
 #include <filesystem>
 #include <mutex>
 #include <thread>
@@ -71,14 +76,15 @@ struct Server::Impl {
         pool(std::max(0, pool_workers(o) - 1)),
         store(open_store(o)),
         meshes(o.mesh_cache_bytes, *store, log, ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
-        jobs(options, *store, meshes, hub, pool, log),
+        jobs(options, *store, meshes, hub, pool, log, &metrics),
         blocking(o.upload_parsers),
-        context{options, meshes, jobs, log, blocking},
+        context{options, meshes, jobs, log, blocking, metrics},
         mesh_service(context),
         job_service(context) {}
 
   ServerOptions options;
   Log log;
+  ServiceMetrics metrics;
   ThreadPool pool;
   EventHub hub;
   std::unique_ptr<JobStore> store;
@@ -90,6 +96,7 @@ struct Server::Impl {
   JobServiceImpl job_service;
   std::unique_ptr<grpc::Server> server;
   int port = 0;
+  std::unique_ptr<HttpServer> http;  // --http-listen
 
   std::mutex mutex;
   std::condition_variable done_cv;
@@ -109,10 +116,21 @@ Server::Server(const ServerOptions& options) {
   builder.SetMaxSendMessageSize(options.max_message_bytes);
   builder.RegisterService(&impl_->mesh_service);
   builder.RegisterService(&impl_->job_service);
+  builder.experimental().SetInterceptorCreators(rpc_metrics_interceptors(impl_->metrics));
   impl_->server = builder.BuildAndStart();
   if (!impl_->server || impl_->port == 0) {
     impl_.reset();
     throw Error(ErrorCode::invalid_argument, "cannot listen on '" + options.listen + "' (address in use or invalid?)");
+  }
+  add_state_collector(*impl_);
+  if (!options.http_listen.empty()) {
+    try {
+      impl_->http = std::make_unique<HttpServer>(impl_->context);
+    } catch (...) {
+      impl_->server->Shutdown();
+      impl_.reset();
+      throw;
+    }
   }
   auto* health = impl_->server->GetHealthCheckService();
   health->SetServingStatus(true);
@@ -135,6 +153,33 @@ Server::~Server() {
 }
 
 int Server::port() const { return impl_->port; }
+
+int Server::http_port() const { return impl_->http ? impl_->http->port() : 0; }
+
+void Server::add_state_collector(Impl& s) {
+  // Gauges of live state, read at each scrape of /metrics.
+  s.metrics.registry().add_collector([&s](MetricsRegistry& r) {
+    std::map<std::string, int> by_state;
+    for (const char* state : {"queued", "running", "succeeded", "failed", "cancelled"}) by_state[state] = 0;
+    try {
+      const v1::ListJobsResponse list = s.jobs.list({});
+      for (const auto& job : list.jobs()) ++by_state[wire::state_name(job.state())];
+    } catch (const std::exception&) {
+      // the store is unreachable: /readyz says so; keep the last values
+      return;
+    }
+    for (const auto& [state, n] : by_state) r.set("depath_jobs", {{"state", state}}, n);
+    r.set("depath_queue_depth", {}, s.jobs.queued_jobs());
+    r.set("depath_running_jobs", {}, s.jobs.running_jobs());
+    const MeshCacheStats c = s.meshes.cache_stats();
+    r.set("depath_mesh_cache_bytes", {}, static_cast<double>(c.bytes));
+    r.set("depath_mesh_cache_budget_bytes", {}, static_cast<double>(s.options.mesh_cache_bytes));
+    r.set("depath_mesh_cache_meshes", {}, static_cast<double>(c.meshes));
+    r.set("depath_mesh_cache_hits_total", {}, static_cast<double>(c.hits));
+    r.set("depath_mesh_cache_misses_total", {}, static_cast<double>(c.misses));
+    r.set("depath_mesh_cache_evictions_total", {}, static_cast<double>(c.evictions));
+  });
+}
 
 bool Server::shutdown() {
   auto& s = *impl_;
@@ -160,6 +205,7 @@ bool Server::shutdown() {
     s.jobs.poke_watchers();
   }
   s.hub.flush();  // watchers now have their final events queued
+  if (s.http) s.http->stop();  // event streams end after the events they have
   // Give open streams the rest of the budget (at least a moment) to deliver them.
   const auto grpc_deadline = std::max(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(500));
   s.server->Shutdown(std::chrono::system_clock::now() +

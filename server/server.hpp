@@ -20,6 +20,8 @@ class Server {
 
   /// The port it listens on (the chosen one when the options said port 0).
   int port() const;
+  /// The HTTP port (--http-listen), or 0 when there is no HTTP listener.
+  int http_port() const;
 
   /// Graceful shutdown, bounded by options.shutdown_timeout_seconds: health goes
   /// NOT_SERVING, new work is refused with UNAVAILABLE; on a durable store running jobs
@@ -35,6 +37,7 @@ class Server {
   struct Impl;
 
  private:
+  static void add_state_collector(Impl& s);
   std::unique_ptr<Impl> impl_;
 };
 

@@ -6,6 +6,7 @@
 #include "job_manager.hpp"
 #include "log.hpp"
 #include "mesh_store.hpp"
+#include "metrics/service_metrics.hpp"
 #include "options.hpp"
 #include "task_queue.hpp"
 
@@ -22,6 +23,7 @@ struct ServiceContext {
   JobManager& jobs;
   Log& log;
   TaskQueue& blocking;  ///< for slow work (mesh parsing)
+  ServiceMetrics& metrics;
   std::atomic<bool> shutting_down{false};
   /// Set once a durable server's jobs are handed back at shutdown: watch streams end, after
   /// the events they have not sent yet, with UNAVAILABLE (the client reconnects).
@@ -30,15 +32,22 @@ struct ServiceContext {
   /// OK, or UNAUTHENTICATED when --auth-token is set and the call lacks
   /// `authorization: Bearer TOKEN`.
   grpc::Status authenticate(const grpc::CallbackServerContext* ctx) const {
-    if (options.auth_token.empty()) return grpc::Status::OK;
     const auto& md = ctx->client_metadata();
     auto it = md.find("authorization");
-    if (it == md.end()) {
+    if (it == md.end()) return authorize(nullptr);
+    const std::string got(it->second.data(), it->second.size());
+    return authorize(&got);
+  }
+
+  /// The token check itself, for any transport (gRPC metadata, the HTTP Authorization
+  /// header): `authorization` is the value sent, or null when none was.
+  grpc::Status authorize(const std::string* authorization) const {
+    if (options.auth_token.empty()) return grpc::Status::OK;
+    if (!authorization) {
       return {grpc::StatusCode::UNAUTHENTICATED, "missing 'authorization: Bearer TOKEN' metadata (server requires a token)"};
     }
     const std::string expected = "Bearer " + options.auth_token;
-    const grpc::string_ref got = it->second;
-    if (got.size() != expected.size() || std::string(got.data(), got.size()) != expected) {
+    if (authorization->size() != expected.size() || *authorization != expected) {
       return {grpc::StatusCode::UNAUTHENTICATED, "invalid token in 'authorization' metadata"};
     }
     return grpc::Status::OK;

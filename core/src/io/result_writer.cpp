@@ -100,12 +100,16 @@ void write_csv(std::ostream& out, const std::vector<Vec3>& points, const SolveRe
 
 using Writer = void (*)(std::ostream&, const std::vector<Vec3>&, const SolveResult&);
 
-Writer writer_for(const std::string& path) {
-  const std::string ext = extension_of(path);
+Writer writer_for_format(const std::string& ext) {
   if (ext == "json") return write_json;
   if (ext == "obj") return write_obj;
   if (ext == "ply") return write_ply;
   if (ext == "csv") return write_csv;
+  return nullptr;
+}
+
+Writer writer_for(const std::string& path) {
+  if (Writer w = writer_for_format(extension_of(path))) return w;
   throw Error(ErrorCode::invalid_argument,
               "cannot write '" + path + "': the output extension must be .json, .obj, .ply or .csv");
 }
@@ -121,6 +125,16 @@ std::string result_json(const std::vector<Vec3>& points, const SolveResult& resu
 
 std::string result_json(const Mesh& mesh, const SolveResult& result, int indent) {
   return result_json(path_positions(mesh, result.path), result, indent);
+}
+
+void write_result(std::ostream& out, const std::string& format, const std::vector<Vec3>& points,
+                  const SolveResult& result) {
+  const Writer writer = writer_for_format(format);
+  if (!writer)
+    throw Error(ErrorCode::invalid_argument,
+                "unknown result format '" + format + "' (expected json, obj, ply or csv)");
+  check_points(points, result);
+  writer(out, points, result);
 }
 
 void write_result(const std::string& path, const std::vector<Vec3>& points, const SolveResult& result) {

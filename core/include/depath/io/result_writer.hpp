@@ -14,6 +14,7 @@
 #include "depath/mesh/mesh.hpp"
 #include "depath/solve/solve.hpp"
 
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,12 @@ void check_result_path(const std::string& path);
 std::string result_json(const std::vector<Vec3>& points, const SolveResult& result, int indent = -1);
 /// Same, with the positions computed on `mesh`.
 std::string result_json(const Mesh& mesh, const SolveResult& result, int indent = -1);
+
+/// Writes the result to `out` in `format` ("json", "obj", "ply" or "csv", as the extensions):
+/// the same bytes write_result puts in a file (a server sends them as a download). Throws
+/// Error(invalid_argument) for another format or positions that do not match the path.
+void write_result(std::ostream& out, const std::string& format, const std::vector<Vec3>& points,
+                  const SolveResult& result);
 
 /// Writes the result to `path`; the format follows the extension (.json, .obj, .ply, .csv).
 /// Throws Error(invalid_argument) for another extension or a file that cannot be written.

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+#include "http/http_common.hpp"
+
+#include "depath/wire/wire.hpp"
+#include "service_error.hpp"
+
+namespace depath::service::http {
+
+int http_status(grpc::StatusCode code) {
+  switch (code) {
+    case grpc::StatusCode::OK: return 200;
+    case grpc::StatusCode::INVALID_ARGUMENT: return 400;
+    case grpc::StatusCode::UNAUTHENTICATED: return 401;
+    case grpc::StatusCode::PERMISSION_DENIED: return 403;
+    case grpc::StatusCode::NOT_FOUND: return 404;
+    case grpc::StatusCode::ALREADY_EXISTS:
+    case grpc::StatusCode::FAILED_PRECONDITION: return 409;
+    case grpc::StatusCode::RESOURCE_EXHAUSTED: return 429;
+    case grpc::StatusCode::UNAVAILABLE: return 503;
+    default: return 500;
+  }
+}
+
+void send_json(httplib::Response& res, const nlohmann::json& body, int status) {
+  res.status = status;
+  res.set_content(body.dump(), "application/json");
+}
+
+void send_error(httplib::Response& res, const grpc::Status& status) {
+  send_json(res,
+            {{"error",
+              {{"code", wire::status_code_name(status.error_code())}, {"message", status.error_message()}}}},
+            http_status(status.error_code()));
+  if (status.error_code() == grpc::StatusCode::UNAUTHENTICATED) res.set_header("WWW-Authenticate", "Bearer");
+}
+
+bool authorized(HttpContext& ctx, const httplib::Request& req, httplib::Response& res) {
+  grpc::Status s;
+  if (req.has_header("Authorization")) {
+    const std::string value = req.get_header_value("Authorization");
+    s = ctx.service.authorize(&value);
+  } else if (req.has_param("access_token")) {
+    const std::string value = "Bearer " + req.get_param_value("access_token");
+    s = ctx.service.authorize(&value);
+  } else {
+    s = ctx.service.authorize(nullptr);
+  }
+  if (s.ok()) return true;
+  ctx.service.metrics.auth_failure("http");
+  send_error(res, s);
+  return false;
+}
+
+grpc::Status current_status() { return current_exception_status(); }
+
+}  // namespace depath::service::http

@@ -30,11 +30,16 @@ export function renderJobPage(root, jobId, status) {
 
   const chart = new ConvergenceChart(chartEl);
   const view = new MeshView(viewEl);
-  const live = { jobId, progressEvents: 0, pathEvents: 0, lastProgressReceivedAt: null, latencies: [] };
+  // Latencies (ms) of the chart: from receiving a progress event, and from the server logging
+  // it (its `time`, same clock when the browser runs on the server's machine).
+  const live = { jobId, progressEvents: 0, pathEvents: 0, lastProgressReceivedAt: null, lastProgressTime: null,
+    latencies: [], serverToChart: [] };
   window.__depath = { ...(window.__depath || {}), job: live, view, chart };
   chart.onDraw = (n, at) => {
     if (live.lastProgressReceivedAt !== null) live.latencies.push(at - live.lastProgressReceivedAt);
+    if (live.lastProgressTime) live.serverToChart.push(Date.now() - live.lastProgressTime * 1000);
     live.lastProgressReceivedAt = null;
+    live.lastProgressTime = null;
   };
   let spec = null;
   let stop = null;
@@ -87,6 +92,7 @@ export function renderJobPage(root, jobId, status) {
       // A path event is a progress event that also carries the best path so far.
       live.progressEvents++;
       live.lastProgressReceivedAt = ev.receivedAt;
+      live.lastProgressTime = typeof d.time === 'number' ? d.time : null;
       chart.add(d.generation, d.best_energy, d.mean_energy);
       showProgress({ ...d, generations: d.generations || spec?.generations });
       const points = d.path ? d.path.points : d.points;
@@ -119,8 +125,11 @@ export function renderJobPage(root, jobId, status) {
     showError(job.error);
     if (job.result) showResult(job.result);
     try {
+      live.timing = { jobLoaded: performance.now() };
       const geometry = await api.getGeometry(spec.mesh_id);
+      live.timing.geometryLoaded = performance.now();
       view.setGeometry(geometry.vertices, geometry.faces);
+      live.timing.geometryBuilt = performance.now();
       view.setMarker('s', spec.source);
       view.setMarker('t', spec.target);
       view.lookAtVertices([spec.source, spec.target]);

@@ -133,6 +133,8 @@ export function renderJobPage(root, jobId, status) {
       view.setMarker('s', spec.source);
       view.setMarker('t', spec.target);
       view.lookAtVertices([spec.source, spec.target]);
+      // A per-vertex field given with the job (vector_field energy) as an overlay.
+      if (Array.isArray(spec.field) && spec.field.length === geometry.vertices.length / 3) view.setField(spec.field.flat());
       if (job.result) view.setPath(job.result.points, { final: true });
     } catch (e) {
       status(`Cannot load the mesh: ${e.message}`, true);

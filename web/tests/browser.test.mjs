@@ -5,7 +5,8 @@
 //   2. a job's path appears when it ends, with the result's figures and downloads;
 //   3. on the front page, uploading a flat grid and clicking two points of the surface fills s
 //      and t with the vertex ids the test computes from the camera it reads back;
-//   4. screenshots of each step are kept in the artifacts directory.
+//   4. with --auth-token, the page asks for the token, then works (token kept in sessionStorage);
+//   5. screenshots of each step are kept in the artifacts directory.
 // Skips (exit 77) with a message when chromium, playwright-core or depathd's --http-listen are
 // missing. Liveness bounds scale with DEPATH_TEST_TIME_SCALE.
 //   node tests/browser.test.mjs DEPATHD DEPATH TEST_DATA_DIR ARTIFACTS_DIR
@@ -150,6 +151,30 @@ try {
     await page.screenshot({ path: join(artifacts, 'picked-job.png') });
   });
 
+  await step('a server with a token: the page asks for it and keeps it for the session', async () => {
+    const secured = await startServer(depathd, ['--auth-token', 'sesame-42']);
+    try {
+      const auth = { Authorization: 'Bearer sesame-42' };
+      const { mesh_id: meshId } = await api(secured.base, 'POST', '/v1/meshes?format=obj', readFileSync(grid), auth);
+      const spec = { mesh_id: meshId, source: 0, target: 120, method: 'fmm' };
+      const { id } = await api(secured.base, 'POST', '/v1/jobs', JSON.stringify(spec), { ...auth, 'Content-Type': 'application/json' });
+      const context = await browser.newContext();
+      const securePage = await context.newPage();
+      await securePage.goto(`${secured.base}/jobs/${id}`);
+      await securePage.waitForSelector('#token-form', { timeout: bound(10000) });
+      assert.match(await securePage.textContent('#status'), /401|token|auth/i);
+      await securePage.fill('#token', 'sesame-42');
+      await securePage.click('#token-form button');
+      await securePage.waitForFunction(() => document.querySelector('#job-state').textContent === 'succeeded', null, { timeout: bound(30000) });
+      await securePage.waitForSelector('#view[data-path-final="true"]', { timeout: bound(20000) });
+      assert.equal(await securePage.evaluate(() => sessionStorage.getItem('depath.token')), 'sesame-42');
+      await securePage.screenshot({ path: join(artifacts, 'token.png') });
+      await context.close();
+    } finally {
+      await secured.stop();
+    }
+  });
+
   assert.deepEqual(consoleErrors, [], 'page errors');
 } catch (e) {
   results.push(`FAIL setup: ${e.stack || e}`);
@@ -161,4 +186,4 @@ for (const r of results) console.log(r);
 console.log(`figures: ${JSON.stringify(figures)}`);
 writeFileSync(join(artifacts, 'figures.json'), JSON.stringify(figures, null, 1));
 console.log(`screenshots in ${artifacts}`);
-process.exit(results.some((r) => r.startsWith('FAIL')) || results.length < 3 ? 1 : 0);
+process.exit(results.some((r) => r.startsWith('FAIL')) || results.length < 4 ? 1 : 0);

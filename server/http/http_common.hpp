@@ -38,13 +38,11 @@ void send_json(httplib::Response& res, const nlohmann::json& body, int status = 
 /// (EventSource). On failure writes the 401 and returns false.
 bool authorized(HttpContext& ctx, const httplib::Request& req, httplib::Response& res);
 
+/// current_exception_status() (service_error.hpp), out of line; call inside a catch block.
+grpc::Status current_status();
+
 /// Runs a /v1 handler: the token check (and, when `admit`, UNAVAILABLE while shutting down),
-/// then `fn`; any exception becomes the error response of its status (service_error.hpp).
-template <class Fn>
-void api_call(HttpContext& ctx, const httplib::Request& req, httplib::Response& res, bool admit, Fn&& fn);
-
-grpc::Status current_status();  ///< current_exception_status() (service_error.hpp), out of line
-
+/// then `fn`; any exception becomes the error response of its status.
 template <class Fn>
 void api_call(HttpContext& ctx, const httplib::Request& req, httplib::Response& res, bool admit, Fn&& fn) {
   if (!authorized(ctx, req, res)) return;

@@ -382,6 +382,61 @@ def test_fallback(d):
     check(s == 200 and reply["id"].encode() in b, "fallback job page lacks the id")
 
 
+def test_shutdown(d):
+    """SIGTERM with an open event stream (memory store): the stream gets the job's final CANCELLED
+    event and ends, and depathd exits within its shutdown bound."""
+    import threading
+    mesh_bytes = open(ARGS.mesh, "rb").read()
+    s, _, b = request(d, "POST", "/v1/meshes?format=off", mesh_bytes, token=None)
+    mesh_id = json.loads(b)["mesh_id"]
+    s, reply = post_json(d, "/v1/jobs", {"mesh_id": mesh_id, "source": 366, "target": 230, "population": 40,
+                                         "generations": 100000}, token=None)
+    check(s == 200, "shutdown test submit %s" % reply)
+    got = {}
+
+    def follow():
+        try:
+            got["events"] = read_events(d, reply["id"], timeout=60)
+        except Exception as e:  # reported below
+            got["error"] = e
+
+    reader = threading.Thread(target=follow)
+    reader.start()
+    deadline = time.monotonic() + 60 * SCALE
+    while get_json(d, "/v1/jobs/" + reply["id"], token=None)["state"] != "running":
+        check(time.monotonic() < deadline, "job did not start")
+        time.sleep(0.05)
+
+    # an idle stream (a job queued behind two running ones, --max-running-jobs 2) gets a keep-alive
+    # comment every 15 s
+    for i in range(2):
+        s, queued = post_json(d, "/v1/jobs", {"mesh_id": mesh_id, "source": 366, "target": 230 + i + 1,
+                                              "population": 40, "generations": 100000}, token=None)
+        check(s == 200, "submit %s" % queued)
+    check(get_json(d, "/v1/jobs/" + queued["id"], token=None)["state"] == "queued", "third job not queued")
+    c = http.client.HTTPConnection("127.0.0.1", d.port, timeout=(15 + 15) * SCALE)
+    c.request("GET", "/v1/jobs/%s/events" % queued["id"])
+    r = c.getresponse()
+    lines = []
+    t0 = time.monotonic()
+    while ": keep-alive" not in lines:
+        lines.append(r.readline().decode().rstrip("\n"))
+    waited = time.monotonic() - t0
+    check(waited >= 14, "keep-alive after %.1f s, before the 15 s interval" % waited)
+    check("event: state" in lines and "id: 1" in lines, "idle stream began without the queued event: %s" % lines)
+    c.close()
+    d.proc.send_signal(signal.SIGTERM)
+    # depathd's own bound: --shutdown-timeout-seconds (10 by default) + 5 s before it exits hard
+    rc = d.proc.wait(timeout=(15 + 15) * SCALE)
+    check(rc == 0, "depathd exit code %d after SIGTERM" % rc)
+    reader.join(timeout=30 * SCALE)
+    check(not reader.is_alive(), "the event stream did not end at shutdown")
+    check("error" not in got, "event stream failed: %r" % got.get("error"))
+    last = got["events"][-1]
+    check(last[1] == "state" and last[2]["state"] == "cancelled" and "shutting down" in last[2]["message"],
+          "last event at shutdown: %s" % (last,))
+
+
 def main():
     global ARGS, WORK
     p = argparse.ArgumentParser()
@@ -415,6 +470,8 @@ def main():
         daemons.append(f)
         test_fallback(f)
         print("fallback page: ok")
+        test_shutdown(f)
+        print("event stream at shutdown: ok")
     finally:
         for d in daemons:
             d.stop()

@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "picture/convergence_plot.hpp"
+#include "picture/drawing_caches.hpp"
 
 namespace depath::cli {
 namespace {
@@ -18,6 +19,7 @@ struct PlotOptions {
 void run_plot(const PlotOptions& o) {
   const auto points = picture::read_progress_lines(o.progress);
   picture::write_convergence_plot(points, o.out, o.width, o.height);
+  picture::release_drawing_caches();  // the plot's fonts: no drawing follows in this process
   std::fprintf(stderr, "wrote %s (%zu generations)\n", o.out.c_str(), points.size());
 }
 

@@ -17,6 +17,7 @@
 #include "depath/util/error.hpp"
 #include "picture/camera.hpp"
 #include "picture/convergence_plot.hpp"
+#include "picture/drawing_caches.hpp"
 #include "picture/result_path.hpp"
 #include "picture/scene_painter.hpp"
 
@@ -204,6 +205,13 @@ TEST_F(Pictures, PlotRefusesFilesWithoutProgress) {
   }
   EXPECT_THROW(picture::read_progress_lines(file("missing.jsonl")), Error);
 }
+
+// Frees Cairo's and fontconfig's font caches after the last test (LeakSanitizer).
+class DrawingCaches : public ::testing::Environment {
+ public:
+  void TearDown() override { picture::release_drawing_caches(); }
+};
+const auto* const kDrawingCaches = ::testing::AddGlobalTestEnvironment(new DrawingCaches);
 
 }  // namespace
 }  // namespace depath

@@ -14,10 +14,13 @@ COPY scripts/packages.txt /tmp/packages.txt
 RUN apt-get update \
  && grep -vE '^\s*(#|$)' /tmp/packages.txt \
     | DEBIAN_FRONTEND=noninteractive xargs apt-get install -y --no-install-recommends \
+ && (command -v npm >/dev/null || DEBIAN_FRONTEND=noninteractive apt-get install -y --no-install-recommends npm) \
  && rm -rf /var/lib/apt/lists/*
 
 WORKDIR /src
 COPY . .
+# The web view's npm packages as locked (the build bundles them into build/server/web).
+RUN cd web && npm ci --no-audit --no-fund
 # Parallel compile jobs; keep it small on shared machines.
 ARG JOBS=2
 RUN cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DDEPATH_BUILD_BENCH=OFF \
@@ -29,6 +32,7 @@ RUN ctest --test-dir build --output-on-failure -j"${JOBS}" ${CTEST_ARGS}
 # Stripped binaries, and the packages that provide the libraries they link.
 RUN install -D -s -m 0755 build/server/depathd /out/depathd \
  && install -D -s -m 0755 build/client/depath /out/depath \
+ && cp -r build/server/web /out/web \
  && deploy/runtime-packages.sh /out/depathd /out/depath > /out/runtime-packages.txt \
  && cat /out/runtime-packages.txt
 
@@ -45,6 +49,8 @@ RUN apt-get update \
            /tmp/runtime-packages.txt
 
 COPY --from=builder /out/depathd /out/depath /usr/local/bin/
+# The web view's bundled assets, in `web` beside depathd where it looks by default.
+COPY --from=builder /out/web /usr/local/bin/web
 # Fixed numeric ids so Kubernetes can verify runAsNonRoot; fail the build if any
 # library is still missing rather than at container start.
 RUN groupadd --gid 10001 depath \

@@ -11,6 +11,10 @@ namespace depath::cli {
 void add_solve_command(CLI::App& app);
 /// `depath generate grid|peaks|cone`: write the paper's test surfaces.
 void add_generate_command(CLI::App& app);
+/// `depath render MESH RESULT.json --out picture.png`: shaded mesh, path and endpoints (Cairo).
+void add_render_command(CLI::App& app);
+/// `depath plot PROGRESS.jsonl --out convergence.svg`: the convergence plot (Cairo).
+void add_plot_command(CLI::App& app);
 
 // Network subcommands talking to depathd (built when the service is; SPEC §4).
 void add_upload_command(CLI::App& app);

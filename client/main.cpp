@@ -16,6 +16,8 @@ int main(int argc, char** argv) {
   app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   depath::cli::add_solve_command(app);
   depath::cli::add_generate_command(app);
+  depath::cli::add_render_command(app);
+  depath::cli::add_plot_command(app);
 #ifdef DEPATH_WITH_REMOTE
   depath::cli::add_upload_command(app);
   depath::cli::add_submit_command(app);

@@ -65,5 +65,34 @@ expect "empty file" 2 "empty" -- "$depath" solve "$work/empty.obj" -s 0 -t 1
 expect "generate + solve" 0 "wrote" -- "$depath" generate grid --n 11 --out "$work/g.obj"
 expect "solve on generated grid" 0 "energy" -- "$depath" solve "$work/g.obj" -s 0 -t 120 --method fmm
 
+# depath render / depath plot (pictures with Cairo; pixel checks are in tests/test_pictures.cpp)
+expect "render writes a png" 0 "wrote $work/p.png (320x200" -- \
+  "$depath" render "$cone" "$work/p.json" --out "$work/p.png" --width 320 --height 200
+expect "render output is a 320x200 png" 0 "ok" -- python3 -c "
+import struct
+d = open('$work/p.png', 'rb').read()
+assert d[:8] == b'\\x89PNG\\r\\n\\x1a\\n' and struct.unpack('>II', d[16:24]) == (320, 200)
+print('ok')"
+expect "render: missing result" 2 "cannot open the file" -- "$depath" render "$cone" "$work/none.json" --out "$work/x.png"
+expect "render: result of another mesh" 2 "not on this mesh" -- "$depath" render "$work/g.obj" "$work/p.json" --out "$work/x.png"
+expect "render: not a png name" 2 "name it .png" -- "$depath" render "$cone" "$work/p.json" --out "$work/x.jpg"
+expect "render: field of the wrong length" 2 "field $work/short.field has 1 vectors but the mesh has 1153" -- \
+  bash -c "echo '1 0 0' > '$work/short.field' && '$depath' render '$cone' '$work/p.json' --out '$work/x.png' --field '$work/short.field'"
+"$depath" solve "$cone" -s 0 -t 348 --generations 9 --population 6 --threads 2 --json > "$work/progress.jsonl" 2>/dev/null
+expect "plot writes an svg" 0 "wrote $work/c.svg (9 generations)" -- "$depath" plot "$work/progress.jsonl" --out "$work/c.svg"
+expect "plot svg: valid XML, 9 markers per series" 0 "ok" -- python3 -c "
+import re, xml.etree.ElementTree as ET
+root = ET.parse('$work/c.svg').getroot()
+assert root.tag.endswith('svg'), root.tag
+fills = [e.get('style', '') for e in root.iter() if e.tag.endswith('path')]
+best = sum('fill:rgb(86%,8%,8%)' in f for f in fills)
+mean = sum('fill:rgb(20%,40%,85%)' in f for f in fills)
+assert (best, mean) == (9, 9), (best, mean)
+print('ok')"
+echo '{"event":"status","message":"queued"}' > "$work/status.jsonl"
+expect "plot: no progress lines" 2 "no progress lines" -- "$depath" plot "$work/status.jsonl" --out "$work/c.svg"
+expect "plot: not JSON lines" 2 "line 1: not a JSON object" -- "$depath" plot "$work/p.json" --out "$work/c.svg"
+expect "plot: missing file" 2 "cannot open the file" -- "$depath" plot "$work/none.jsonl" --out "$work/c.svg"
+
 echo "cli: $passed passed, $failed failed"
 [ "$failed" -eq 0 ]

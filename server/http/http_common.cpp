@@ -23,7 +23,7 @@ int http_status(grpc::StatusCode code) {
 
 void send_json(httplib::Response& res, const nlohmann::json& body, int status) {
   res.status = status;
-  res.set_content(body.dump(), "application/json");
+  res.set_content(body.dump(), "application/json; charset=utf-8");  // not brotli: see static_files.cpp
 }
 
 void send_error(httplib::Response& res, const grpc::Status& status) {

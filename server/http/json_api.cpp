@@ -34,7 +34,7 @@ void append_float(std::string& out, double v) {
 }
 
 const char* content_type_of(const std::string& format) {
-  if (format == "json") return "application/json";
+  if (format == "json") return "application/json; charset=utf-8";
   if (format == "csv") return "text/csv";
   return "text/plain";  // OBJ and PLY polylines are text
 }
@@ -191,7 +191,7 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
   server.Get(R"(/v1/meshes/([^/]+)/geometry)", [&ctx](const httplib::Request& req, httplib::Response& res) {
     api_call(ctx, req, res, false, [&] {
       const auto lease = ctx.service.meshes.acquire(req.matches[1]);
-      res.set_content(geometry_json(lease->mesh()), "application/json");
+      res.set_content(geometry_json(lease->mesh()), "application/json; charset=utf-8");  // not brotli: see static_files.cpp
     });
   });
 }

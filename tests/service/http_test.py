@@ -358,7 +358,7 @@ def test_static(d, root, secret):
         s, h, b = request(d, "GET", path, token=None)
         check(s == 200 and b == index and h["Content-Type"].startswith("text/html"), "%s: %d" % (path, s))
     s, h, b = request(d, "GET", "/assets/app.js", token=None)
-    check(s == 200 and h["Content-Type"].startswith("text/javascript") and b == b"console.log(1)\n", "asset")
+    check(s == 200 and h["Content-Type"].startswith("application/javascript") and b == b"console.log(1)\n", "asset")
     s, h, b = request(d, "GET", "/assets/style.css", token=None)
     check(s == 200 and h["Content-Type"].startswith("text/css"), "css content type")
     for path in ["/assets/../../secret.txt", "/assets/%2e%2e/%2e%2e/secret.txt", "/..%2fsecret.txt",

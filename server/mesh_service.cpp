@@ -23,7 +23,8 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
  public:
   UploadReactor(ServiceContext& ctx, grpc::CallbackServerContext* context, v1::MeshInfo* reply)
       : ctx_(ctx), reply_(reply), peer_(context->peer()) {
-    grpc::Status s = ctx_.admit(context);
+    grpc::Status s = ctx_.admit(context, "UploadMesh");
+    if (s.ok()) s = take_upload_slot();
     if (s.ok()) StartRead(&request_);
     else Finish(s);
     grpc_handoff(this);  // gRPC starts those operations once the handler has returned
@@ -69,10 +70,24 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
 
   void OnDone() override {
     grpc_reaction(this);
+    if (holds_slot_) ctx_.uploads.fetch_sub(1);
     delete this;
   }
 
  private:
+  /// One of --max-concurrent-uploads, held until the stream is done (its bytes are freed).
+  grpc::Status take_upload_slot() {
+    const int limit = ctx_.options.max_concurrent_uploads;
+    if (ctx_.uploads.fetch_add(1) >= limit) {
+      ctx_.uploads.fetch_sub(1);
+      return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+              std::to_string(limit) + " mesh uploads are already in flight, the server's limit "
+              "(--max-concurrent-uploads); try again shortly"};
+    }
+    holds_slot_ = true;
+    return grpc::Status::OK;
+  }
+
   grpc::Status too_big(uint64_t n) const {
     return {grpc::StatusCode::RESOURCE_EXHAUSTED,
             "mesh upload of " + std::to_string(n) + " bytes (or more) exceeds the server's limit of " +
@@ -117,6 +132,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   std::string peer_;
   v1::UploadMeshRequest request_;
   bool have_header_ = false;
+  bool holds_slot_ = false;
   std::string name_, format_, bytes_;
 };
 
@@ -129,17 +145,17 @@ grpc::ServerReadReactor<v1::UploadMeshRequest>* MeshServiceImpl::UploadMesh(grpc
 
 grpc::ServerUnaryReactor* MeshServiceImpl::GetMesh(grpc::CallbackServerContext* context,
                                                    const v1::GetMeshRequest* request, v1::MeshInfo* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.meshes.get(request->id()); });
+  return unary(ctx_, context, "GetMesh", false, [&] { *reply = ctx_.meshes.get(request->id()); });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::ListMeshes(grpc::CallbackServerContext* context,
                                                       const v1::ListMeshesRequest*, v1::ListMeshesResponse* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.meshes.list(); });
+  return unary(ctx_, context, "ListMeshes", false, [&] { *reply = ctx_.meshes.list(); });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::DeleteMesh(grpc::CallbackServerContext* context,
                                                       const v1::DeleteMeshRequest* request, v1::DeleteMeshResponse*) {
-  return unary(ctx_, context, false, [&] { ctx_.meshes.remove(request->id()); });
+  return unary(ctx_, context, "DeleteMesh", false, [&] { ctx_.meshes.remove(request->id()); });
 }
 
 }  // namespace depath::service

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace depath::service {
 
@@ -23,7 +24,20 @@ struct ServerOptions {
   std::string store;
   double checkpoint_seconds = 30;         ///< a running DE job saves its state this often
   double lease_seconds = 15;              ///< a replica's claim on a job lasts this long unrenewed
-  std::string auth_token;                 ///< require `authorization: Bearer TOKEN` (optional)
+  /// Accepted bearer tokens (any of them): calls need `authorization: Bearer TOKEN`; empty:
+  /// no authentication. main.cpp gathers them from --auth-token (repeatable),
+  /// --auth-token-file and DEPATHD_AUTH_TOKENS.
+  std::vector<std::string> auth_tokens;
+  double auth_failure_burst = 10;         ///< failed token checks a peer may make at once...
+  double auth_failure_rate = 1;           ///< ...and per second after that; then RESOURCE_EXHAUSTED
+  int max_jobs_per_client = 0;            ///< queued + running jobs of one token (or peer); 0 = no cap
+  double max_requests_per_second_per_client = 0;  ///< calls per second of one token (or peer); 0 = no cap
+  int max_concurrent_uploads = 4;         ///< UploadMesh streams in flight; more: RESOURCE_EXHAUSTED
+  std::string tls_cert;                   ///< PEM certificate chain: serve TLS (with tls_key)
+  std::string tls_key;                    ///< PEM private key of tls_cert
+  std::string tls_client_ca;              ///< PEM CA bundle: require client certificates it signed (mutual TLS)
+  double tls_reload_seconds = 60;         ///< how often the TLS files are re-read (certificate rotation)
+  std::string health_listen;              ///< host:port of a plaintext health-only port (empty: none)
   std::string log_format = "text";        ///< "text" or "json"
   std::string log_level = "info";         ///< spdlog level name ("off" in quiet tests)
   int upload_parsers = 2;                 ///< threads parsing uploaded meshes

@@ -20,6 +20,8 @@ class Server {
 
   /// The port it listens on (the chosen one when the options said port 0).
   int port() const;
+  /// The port of --health-listen (0 without it).
+  int health_port() const;
 
   /// Graceful shutdown, bounded by options.shutdown_timeout_seconds: health goes
   /// NOT_SERVING, new work is refused with UNAVAILABLE; on a durable store running jobs
@@ -35,6 +37,7 @@ class Server {
   struct Impl;
 
  private:
+  void start_health_server();
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
 // What the gRPC service implementations share: the stores, the limits, and the checks that
-// every call goes through (authentication, shutting down).
+// every call goes through (authentication and request rate, shutting down).
 #pragma once
 
+#include "access_guard.hpp"
+#include "client_job_quota.hpp"
 #include "job_manager.hpp"
 #include "log.hpp"
 #include "mesh_store.hpp"
@@ -13,6 +15,8 @@
 #include <grpcpp/support/status.h>
 
 #include <atomic>
+#include <string>
+#include <string_view>
 
 namespace depath::service {
 
@@ -27,26 +31,21 @@ struct ServiceContext {
   /// the events they have not sent yet, with UNAVAILABLE (the client reconnects).
   std::atomic<bool> release_watchers{false};
 
-  /// OK, or UNAUTHENTICATED when --auth-token is set and the call lacks
-  /// `authorization: Bearer TOKEN`.
-  grpc::Status authenticate(const grpc::CallbackServerContext* ctx) const {
-    if (options.auth_token.empty()) return grpc::Status::OK;
-    const auto& md = ctx->client_metadata();
-    auto it = md.find("authorization");
-    if (it == md.end()) {
-      return {grpc::StatusCode::UNAUTHENTICATED, "missing 'authorization: Bearer TOKEN' metadata (server requires a token)"};
-    }
-    const std::string expected = "Bearer " + options.auth_token;
-    const grpc::string_ref got = it->second;
-    if (got.size() != expected.size() || std::string(got.data(), got.size()) != expected) {
-      return {grpc::StatusCode::UNAUTHENTICATED, "invalid token in 'authorization' metadata"};
-    }
-    return grpc::Status::OK;
+  AccessGuard& access;
+  ClientJobQuota& job_quota;
+  std::atomic<int> uploads{0};  ///< UploadMesh streams in flight (--max-concurrent-uploads)
+
+  /// AccessGuard::check of the call (`method` names it in logs): OK, or UNAUTHENTICATED /
+  /// RESOURCE_EXHAUSTED. `client`, if given, receives the caller's identity for quotas.
+  grpc::Status authenticate(const grpc::CallbackServerContext* ctx, std::string_view method,
+                            std::string* client = nullptr) const {
+    return access.check(method, ctx->client_metadata(), ctx->peer(), client);
   }
 
   /// authenticate(), then UNAVAILABLE while shutting down (for calls that start new work).
-  grpc::Status admit(const grpc::CallbackServerContext* ctx) const {
-    grpc::Status s = authenticate(ctx);
+  grpc::Status admit(const grpc::CallbackServerContext* ctx, std::string_view method,
+                     std::string* client = nullptr) const {
+    grpc::Status s = authenticate(ctx, method, client);
     if (!s.ok()) return s;
     if (shutting_down.load()) return {grpc::StatusCode::UNAVAILABLE, "server is shutting down"};
     return grpc::Status::OK;

@@ -245,7 +245,7 @@ TEST(ServiceJobs, IdempotentSubmitAndResultOfUnfinishedJob) {
 
 TEST(ServiceJobs, AuthTokenRequiredButHealthExempt) {
   auto options = quiet_options();
-  options.auth_token = "s3cret";
+  options.auth_tokens = {"s3cret"};
   TestServer ts(options);
   v1::MeshInfo info;
   auto s = ts.upload(grid_obj(4), "g.obj", &info);

@@ -28,7 +28,7 @@ struct ServerOptions {
   /// no authentication. main.cpp gathers them from --auth-token (repeatable),
   /// --auth-token-file and DEPATHD_AUTH_TOKENS.
   std::vector<std::string> auth_tokens;
-  double auth_failure_burst = 10;         ///< failed token checks a peer may make at once...
+  double auth_failure_burst = 20;         ///< failed token checks a peer may make at once...
   double auth_failure_rate = 1;           ///< ...and per second after that; then RESOURCE_EXHAUSTED
   int max_jobs_per_client = 0;            ///< queued + running jobs of one token (or peer); 0 = no cap
   double max_requests_per_second_per_client = 0;  ///< calls per second of one token (or peer); 0 = no cap

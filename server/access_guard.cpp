@@ -80,14 +80,14 @@ int AccessGuard::match(std::string_view token) const {
 }
 
 std::string AccessGuard::peer_host(const std::string& peer) {
-  std::string host = peer;
-  if (host.rfind("ipv4:", 0) == 0 || host.rfind("ipv6:", 0) == 0) host = host.substr(5);
+  if (peer.rfind("ipv4:", 0) != 0 && peer.rfind("ipv6:", 0) != 0) return peer;  // unix: etc.
+  std::string host = peer.substr(5);
   if (!host.empty() && host.front() == '[') {
     const auto close = host.find(']');
     return close == std::string::npos ? host : host.substr(1, close - 1);
   }
   const auto colon = host.rfind(':');
-  if (colon != std::string::npos && host.find(':') == colon) host.resize(colon);
+  if (colon != std::string::npos) host.resize(colon);
   return host;
 }
 

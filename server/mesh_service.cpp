@@ -9,6 +9,7 @@
 #include "unary_call.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <mutex>
 
@@ -70,7 +71,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
 
   void OnDone() override {
     grpc_reaction(this);
-    if (holds_slot_) ctx_.uploads.fetch_sub(1);
+    release_upload_slot();
     delete this;
   }
 
@@ -88,6 +89,12 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
     return grpc::Status::OK;
   }
 
+  /// Before Finish (the client may start its next upload as soon as it has the answer), or at
+  /// OnDone for a stream that ended otherwise. Once.
+  void release_upload_slot() {
+    if (holds_slot_.exchange(false)) ctx_.uploads.fetch_sub(1);
+  }
+
   grpc::Status too_big(uint64_t n) const {
     return {grpc::StatusCode::RESOURCE_EXHAUSTED,
             "mesh upload of " + std::to_string(n) + " bytes (or more) exceeds the server's limit of " +
@@ -97,6 +104,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   void fail(const grpc::Status& s) {
     ctx_.log.info("mesh.upload_refused", {{"peer", peer_}, {"code", wire::status_code_name(s.error_code())},
                                           {"reason", s.error_message()}});
+    release_upload_slot();
     grpc_handoff(this);
     Finish(s);
   }
@@ -122,6 +130,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
                                               {"reason", status.error_message()}});
       }
       std::string().swap(bytes_);
+      release_upload_slot();
       grpc_handoff(this);
       Finish(status);
     });
@@ -132,7 +141,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   std::string peer_;
   v1::UploadMeshRequest request_;
   bool have_header_ = false;
-  bool holds_slot_ = false;
+  std::atomic<bool> holds_slot_{false};
   std::string name_, format_, bytes_;
 };
 

@@ -159,6 +159,22 @@ def test_tls():
         check(r.returncode != 0, "a certificate was accepted for a name it does not hold")
 
 
+def test_health_port():
+    """--health-listen: plaintext, the health service only, while the main port needs mutual TLS."""
+    import re
+    with Server("--tls-cert", path("server.pem"), "--tls-key", path("server.key"), "--tls-client-ca", path("ca.pem"),
+                "--auth-token", "right-token", "--health-listen", "127.0.0.1:0") as s:
+        found = re.search(r"health_port=(\d+)", s.log_text())
+        check(found and int(found.group(1)) not in (0, s.port), "no health port in the log: " + s.log_text())
+        health = grpc.insecure_channel("127.0.0.1:" + found.group(1))
+        served(health, "plaintext health on --health-listen")
+        code, details, _ = raw_call(health, LIST_JOBS, token="right-token")
+        check(code == grpc.StatusCode.UNIMPLEMENTED, "the health port serves jobs: %s %s" % (code, details))
+        refused(channel(s), "a plaintext client on the main port")
+        r = depath("health", "--server", "127.0.0.1:" + found.group(1))
+        check(r.returncode == 0 and "SERVING" in r.stdout, "depath health on the health port: " + r.stderr)
+
+
 def test_mutual_tls():
     with Server("--tls-cert", path("server.pem"), "--tls-key", path("server.key"),
                 "--tls-client-ca", path("ca.pem")) as s:

@@ -91,11 +91,18 @@ std::string AccessGuard::peer_host(const std::string& peer) {
   return host;
 }
 
+std::string AccessGuard::certificate_name(const grpc::ServerContextBase& ctx) {
+  const auto auth = ctx.auth_context();
+  if (!auth || !auth->IsPeerAuthenticated()) return {};
+  const auto names = auth->FindPropertyValues("x509_common_name");
+  return names.empty() ? std::string() : std::string(names.front().data(), names.front().size());
+}
+
 grpc::Status AccessGuard::check(std::string_view method, const Metadata& metadata, const std::string& peer,
-                                std::string* client) {
+                                std::string* client, const std::string& certificate_name) {
   const auto now = RateLimiter::Clock::now();
   const std::string host = peer_host(peer);
-  std::string who = "peer " + host;
+  std::string who = certificate_name.empty() ? "peer " + host : "certificate " + certificate_name;
   if (auth_required()) {
     {
       std::lock_guard lock(mutex_);

@@ -7,6 +7,7 @@
 #include "log.hpp"
 #include "options.hpp"
 
+#include <grpcpp/server_context.h>
 #include <grpcpp/support/status.h>
 #include <grpcpp/support/string_ref.h>
 
@@ -60,9 +61,13 @@ class AccessGuard {
   /// not even a right token is checked, so guessing gains nothing). Then RESOURCE_EXHAUSTED
   /// past --max-requests-per-second-per-client. On OK, `client` (if given) is the caller's
   /// identity for per-client quotas: "token #N" (its position among the configured tokens) or,
-  /// without authentication, "peer HOST".
+  /// without tokens, "certificate CN" for a client verified by mutual TLS (`certificate_name`,
+  /// its certificate's common name), else "peer HOST".
   grpc::Status check(std::string_view method, const Metadata& metadata, const std::string& peer,
-                     std::string* client = nullptr);
+                     std::string* client = nullptr, const std::string& certificate_name = {});
+
+  /// The common name of the client certificate mutual TLS verified on this call ("" if none).
+  static std::string certificate_name(const grpc::ServerContextBase& ctx);
 
   /// "1.2.3.4" from "ipv4:1.2.3.4:5678", "::1" from "ipv6:[::1]:5678" (the port varies per connection).
   static std::string peer_host(const std::string& peer);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// --max-jobs-per-client: how many queued + running jobs one client (token, or peer without
-// authentication; see AccessGuard) may have on this replica.
+// --max-jobs-per-client: how many queued + running jobs one client (token, mutual-TLS
+// certificate or peer; see AccessGuard::check) may have on this replica.
 #pragma once
 
 #include "job_manager.hpp"

@@ -124,10 +124,11 @@ int main(int argc, char** argv) {
                  "...and per second after that; past it the peer's calls get RESOURCE_EXHAUSTED")
       ->capture_default_str();
   app.add_option("--max-jobs-per-client", o.max_jobs_per_client,
-                 "Queued + running jobs of one client (its token; its IP address without auth); 0 = no cap")
+                 "Queued + running jobs of one client (its token; else its mutual-TLS certificate name; else its IP "
+                 "address); 0 = no cap")
       ->capture_default_str();
   app.add_option("--max-requests-per-second-per-client", o.max_requests_per_second_per_client,
-                 "Calls per second of one client (its token; its IP address without auth); 0 = no cap")
+                 "Calls per second of one client (identified as for --max-jobs-per-client); 0 = no cap")
       ->capture_default_str();
   app.add_option("--max-concurrent-uploads", o.max_concurrent_uploads,
                  "Mesh uploads in flight at once; more are refused (RESOURCE_EXHAUSTED)")

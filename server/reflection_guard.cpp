@@ -21,7 +21,7 @@ class ReflectionInterceptor final : public grpc::experimental::Interceptor {
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_INITIAL_METADATA)) {
       denied_ = access_.check("ServerReflectionInfo", *methods->GetRecvInitialMetadata(),
-                              info_->server_context()->peer());
+                              info_->server_context()->peer());  // the identity is not needed here
     }
     if (!denied_.ok()) {
       if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_MESSAGE)) {

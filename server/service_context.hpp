@@ -39,7 +39,9 @@ struct ServiceContext {
   /// RESOURCE_EXHAUSTED. `client`, if given, receives the caller's identity for quotas.
   grpc::Status authenticate(const grpc::CallbackServerContext* ctx, std::string_view method,
                             std::string* client = nullptr) const {
-    return access.check(method, ctx->client_metadata(), ctx->peer(), client);
+    const bool mutual_tls = !options.tls_client_ca.empty();
+    return access.check(method, ctx->client_metadata(), ctx->peer(), client,
+                        mutual_tls ? AccessGuard::certificate_name(*ctx) : std::string());
   }
 
   /// authenticate(), then UNAVAILABLE while shutting down (for calls that start new work).

@@ -318,9 +318,9 @@ def test_reflection_behind_auth():
 
 # ---- quotas -------------------------------------------------------------------------------------
 
-def submit(server, token, generations=1000000):
+def submit(server, token, *flags, generations=1000000):
     return depath("submit", ARGS.mesh, "-s", "0", "-t", "1400", "--population", "8", "--generations", generations,
-                  "--server", server.address, "--token", token, "--json")
+                  "--server", server.address, "--token", token, "--json", *flags)
 
 
 def job_id(result):
@@ -347,6 +347,12 @@ def test_jobs_per_client():
         job_id(submit(s, ""))
         r = submit(s, "")
         check(r.returncode != 0 and "peer 127.0.0.1" in r.stderr, "per peer without auth: " + r.stderr)
+    with Server("--max-jobs-per-client", 1, "--tls-cert", path("server.pem"), "--tls-key", path("server.key"),
+                "--tls-client-ca", path("ca.pem")) as s:  # mutual TLS without tokens: per certificate
+        tls = ["--tls-ca", path("ca.pem"), "--tls-cert", path("client.pem"), "--tls-key", path("client.key")]
+        job_id(submit(s, "", *tls))
+        r = submit(s, "", *tls)
+        check(r.returncode != 0 and "certificate client" in r.stderr, "per certificate: " + r.stderr)
 
 
 def test_requests_per_second():

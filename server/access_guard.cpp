@@ -24,7 +24,8 @@ std::string format_number(double v) {
 double& RateLimiter::level(const std::string& key, Clock::time_point now) {
   if (buckets_.size() >= kMaxTrackedKeys && buckets_.find(key) == buckets_.end()) {
     for (auto it = buckets_.begin(); it != buckets_.end();) {
-      const double refilled = it->second.tokens + rate_ * std::chrono::duration<double>(now - it->second.at).count();
+      const double refilled =
+          it->second.tokens + rate_ * std::chrono::duration<double>(now - it->second.at).count();
       it = refilled >= burst_ ? buckets_.erase(it) : std::next(it);
     }
   }
@@ -115,8 +116,8 @@ grpc::Status AccessGuard::check(std::string_view method, const Metadata& metadat
       }
     }
     auto it = metadata.find("authorization");
-    std::string_view value = it == metadata.end() ? std::string_view{}
-                                                  : std::string_view(it->second.data(), it->second.size());
+    std::string_view value =
+        it == metadata.end() ? std::string_view{} : std::string_view(it->second.data(), it->second.size());
     const bool bearer = value.substr(0, kBearer.size()) == kBearer;
     const int index = bearer ? match(value.substr(kBearer.size())) : -1;
     if (index < 0) {
@@ -130,7 +131,8 @@ grpc::Status AccessGuard::check(std::string_view method, const Metadata& metadat
         now_blocked = !failures_.available(host, now);
       }
       log_.warn("auth.failed", {{"method", std::string(method)}, {"peer", peer}, {"reason", reason}});
-      if (now_blocked) log_.warn("auth.peer_limited", {{"peer", host}, {"rate_per_second", options_.auth_failure_rate}});
+      if (now_blocked)
+        log_.warn("auth.peer_limited", {{"peer", host}, {"rate_per_second", options_.auth_failure_rate}});
       return {grpc::StatusCode::UNAUTHENTICATED, std::string(reason) + " (server requires a token)"};
     }
     who = "token #" + std::to_string(index + 1);

@@ -4,9 +4,6 @@
 // (and reflection) goes through check(); the standard health service does not.
 #pragma once
 
-#include "log.hpp"
-#include "options.hpp"
-
 #include <grpcpp/server_context.h>
 #include <grpcpp/support/status.h>
 #include <grpcpp/support/string_ref.h>
@@ -19,6 +16,9 @@
 #include <string_view>
 #include <unordered_map>
 #include <vector>
+
+#include "log.hpp"
+#include "options.hpp"
 
 namespace depath::service {
 

@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "client_job_quota.hpp"
 
-#include "service_error.hpp"
-
 #include <vector>
+
+#include "service_error.hpp"
 
 namespace depath::service {
 

@@ -3,13 +3,13 @@
 // certificate or peer; see AccessGuard::check) may have on this replica.
 #pragma once
 
-#include "job_manager.hpp"
-
 #include <functional>
 #include <map>
 #include <mutex>
 #include <set>
 #include <string>
+
+#include "job_manager.hpp"
 
 namespace depath::service {
 
@@ -21,7 +21,8 @@ class ClientJobQuota {
   /// Calls `submit` unless `client` already has max_jobs jobs queued or running (or being
   /// submitted): then throws ServiceError(RESOURCE_EXHAUSTED) naming --max-jobs-per-client.
   /// The new job counts for the client until it reaches a terminal state.
-  v1::SubmitJobResponse submit(const std::string& client, const std::function<v1::SubmitJobResponse()>& submit);
+  v1::SubmitJobResponse submit(const std::string& client,
+                               const std::function<v1::SubmitJobResponse()>& submit);
 
  private:
   /// Forgets the client's jobs that have finished (or expired); asks the job manager, unlocked.

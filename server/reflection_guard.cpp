@@ -16,7 +16,8 @@ using grpc::experimental::InterceptionHookPoints;
 
 class ReflectionInterceptor final : public grpc::experimental::Interceptor {
  public:
-  ReflectionInterceptor(AccessGuard& access, grpc::experimental::ServerRpcInfo* info) : access_(access), info_(info) {}
+  ReflectionInterceptor(AccessGuard& access, grpc::experimental::ServerRpcInfo* info)
+      : access_(access), info_(info) {}
 
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_INITIAL_METADATA)) {

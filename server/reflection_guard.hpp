@@ -3,11 +3,11 @@
 // same token check as depath's own services when authentication is on.
 #pragma once
 
-#include "access_guard.hpp"
-
 #include <grpcpp/support/server_interceptor.h>
 
 #include <memory>
+
+#include "access_guard.hpp"
 
 namespace depath::service {
 

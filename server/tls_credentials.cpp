@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "tls_credentials.hpp"
 
-#include "depath/util/error.hpp"
-
 #include <grpcpp/security/tls_certificate_provider.h>
 #include <grpcpp/security/tls_credentials_options.h>
 #include <openssl/bio.h>
@@ -13,6 +11,8 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+
+#include "depath/util/error.hpp"
 
 namespace depath::service {
 
@@ -49,7 +49,9 @@ struct KeyDeleter {
 using BioPtr = std::unique_ptr<BIO, BioDeleter>;
 using X509Ptr = std::unique_ptr<X509, X509Deleter>;
 
-BioPtr memory_bio(const std::string& pem) { return BioPtr(BIO_new_mem_buf(pem.data(), static_cast<int>(pem.size()))); }
+BioPtr memory_bio(const std::string& pem) {
+  return BioPtr(BIO_new_mem_buf(pem.data(), static_cast<int>(pem.size())));
+}
 
 /// The first certificate of a PEM file (the leaf of a chain); throws naming the flag.
 X509Ptr first_certificate(const std::string& flag, const std::string& path) {
@@ -62,20 +64,25 @@ X509Ptr first_certificate(const std::string& flag, const std::string& path) {
 
 /// Fails early with a clear message instead of gRPC refusing every handshake later.
 void check_files(const ServerOptions& o) {
-  if (o.tls_cert.empty() != o.tls_key.empty()) bad("--tls-cert and --tls-key go together (give both or neither)");
+  if (o.tls_cert.empty() != o.tls_key.empty())
+    bad("--tls-cert and --tls-key go together (give both or neither)");
   if (o.tls_cert.empty()) {
-    if (!o.tls_client_ca.empty()) bad("--tls-client-ca needs --tls-cert and --tls-key (mutual TLS is TLS first)");
+    if (!o.tls_client_ca.empty())
+      bad("--tls-client-ca needs --tls-cert and --tls-key (mutual TLS is TLS first)");
     return;
   }
-  if (!(o.tls_reload_seconds >= 1) || !std::isfinite(o.tls_reload_seconds)) bad("--tls-reload-seconds must be >= 1");
+  if (!(o.tls_reload_seconds >= 1) || !std::isfinite(o.tls_reload_seconds))
+    bad("--tls-reload-seconds must be >= 1");
   const X509Ptr cert = first_certificate("--tls-cert", o.tls_cert);
   const std::string key_pem = read_pem("--tls-key", o.tls_key);
   BioPtr bio = memory_bio(key_pem);
   std::unique_ptr<EVP_PKEY, KeyDeleter> key(PEM_read_bio_PrivateKey(bio.get(), nullptr, nullptr, nullptr));
-  if (!key) bad("--tls-key '" + o.tls_key + "' holds no unencrypted PEM private key (" + openssl_error() + ")");
+  if (!key)
+    bad("--tls-key '" + o.tls_key + "' holds no unencrypted PEM private key (" + openssl_error() + ")");
   if (X509_check_private_key(cert.get(), key.get()) != 1) {
     ERR_clear_error();
-    bad("--tls-key '" + o.tls_key + "' is not the private key of the certificate in --tls-cert '" + o.tls_cert + "'");
+    bad("--tls-key '" + o.tls_key + "' is not the private key of the certificate in --tls-cert '" +
+        o.tls_cert + "'");
   }
   if (!o.tls_client_ca.empty()) (void)first_certificate("--tls-client-ca", o.tls_client_ca);
 }

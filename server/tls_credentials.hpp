@@ -3,11 +3,11 @@
 // (--tls-client-ca: client certificates required and verified against that CA bundle).
 #pragma once
 
-#include "options.hpp"
-
 #include <grpcpp/security/server_credentials.h>
 
 #include <memory>
+
+#include "options.hpp"
 
 namespace depath::service {
 

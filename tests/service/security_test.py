@@ -403,9 +403,12 @@ def test_concurrent_uploads():
             yield upload_request(chunk=mesh)
 
         future = upload.future(slow(), timeout=120 * SCALE)
-        # Wait until the first stream holds the slot: a second one is then refused.
+        # Wait until the held stream has the slot: a second one is then refused. (A probe that
+        # reaches the server first takes the slot and the held stream is refused: start it again.)
         deadline = time.monotonic() + 30 * SCALE
         while True:
+            if future.done():
+                future = upload.future(slow(), timeout=120 * SCALE)
             try:
                 upload(iter([upload_request(header="second.off"), upload_request(chunk=mesh)]), timeout=10 * SCALE)
                 check(time.monotonic() < deadline, "a second upload was never refused")
@@ -413,7 +416,9 @@ def test_concurrent_uploads():
             except grpc.RpcError as e:
                 check(e.code() == grpc.StatusCode.RESOURCE_EXHAUSTED and "--max-concurrent-uploads" in e.details(),
                       "second upload: %s %s" % (e.code(), e.details()))
-                break
+                if not future.done():
+                    break
+                check(time.monotonic() < deadline, "the held upload never kept its slot")
         release.set()
         check(len(future.result()) > 0, "the held upload failed")
         upload(iter([upload_request(header="after.off"), upload_request(chunk=mesh)]), timeout=30 * SCALE)

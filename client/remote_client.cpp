@@ -58,7 +58,8 @@ std::string strip_authority(const std::string& s) {
   return slash == std::string::npos ? std::string() : s.substr(slash + 1);
 }
 
-std::vector<std::string> resolve_dns(const std::string& target) {
+/// Host and port of a dns: target.
+std::pair<std::string, std::string> dns_host_port(const std::string& target) {
   const std::string name = strip_authority(target.substr(4));
   std::string host = name;
   std::string port = "443";  // gRPC's default for dns: targets
@@ -72,6 +73,11 @@ std::vector<std::string> resolve_dns(const std::string& target) {
     port = name.substr(colon + 1);
   }
   if (host.empty()) throw Error(ErrorCode::invalid_argument, "bad server address '" + target + "'");
+  return {host, port};
+}
+
+std::vector<std::string> resolve_dns(const std::string& target) {
+  const auto [host, port] = dns_host_port(target);
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
   hints.ai_socktype = SOCK_STREAM;
@@ -118,7 +124,21 @@ void add_remote_options(CLI::App& cmd, RemoteOptions& o) {
                  "Server address host:port; or several replicas sharing one store: dns:///host:port (all its "
                  "addresses) or ipv4:a:port,b:port, calls spread over them (env DEPATH_SERVER)")
       ->capture_default_str();
-  cmd.add_option("--token", o.token, "Auth token sent as 'authorization: Bearer TOKEN' (env DEPATH_TOKEN)");
+  auto* token = cmd.add_option("--token", o.token,
+                               "Auth token sent as 'authorization: Bearer TOKEN' (env DEPATH_TOKEN; visible in `ps`: "
+                               "prefer --token-file or the environment)");
+  cmd.add_option("--token-file", o.token_file, "Read the auth token from this file's first line")
+      ->envname("DEPATH_TOKEN_FILE")
+      ->excludes(token);
+  cmd.add_flag("--tls", o.tls, "Connect with TLS, checking the server against the system's trusted roots");
+  cmd.add_option("--tls-ca", o.tls_ca, "Connect with TLS; PEM CA that signed the server's certificate (env DEPATH_TLS_CA)")
+      ->envname("DEPATH_TLS_CA");
+  cmd.add_option("--tls-cert", o.tls_cert,
+                 "PEM client certificate for servers that require mutual TLS (with --tls-key; env DEPATH_TLS_CERT)")
+      ->envname("DEPATH_TLS_CERT");
+  cmd.add_option("--tls-key", o.tls_key, "PEM private key of --tls-cert (env DEPATH_TLS_KEY)")->envname("DEPATH_TLS_KEY");
+  cmd.add_option("--tls-server-name", o.tls_server_name,
+                 "Name to check the server's certificate against (default: the host of --server)");
   cmd.add_option("--connect-timeout", o.connect_timeout_seconds, "Seconds to wait for the server")
       ->capture_default_str();
 }
@@ -155,12 +175,54 @@ std::vector<RemoteOptions> replica_options(const RemoteOptions& options) {
   for (const auto& t : targets) {
     out.push_back(options);
     out.back().server = t;
+    // The certificate names the host, not the address it resolved to.
+    if (uses_tls(options) && options.tls_server_name.empty() && options.server.rfind("dns:", 0) == 0) {
+      out.back().tls_server_name = dns_host_port(options.server).first;
+    }
   }
   return out;
 }
 
+bool uses_tls(const RemoteOptions& o) {
+  return o.tls || !o.tls_ca.empty() || !o.tls_cert.empty() || !o.tls_key.empty();
+}
+
+namespace {
+std::string read_flag_file(const std::string& flag, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(ErrorCode::invalid_argument, flag + " '" + path + "': cannot open the file");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.empty()) throw Error(ErrorCode::invalid_argument, flag + " '" + path + "': the file is empty");
+  return bytes;
+}
+
+std::string read_token_file(const std::string& path) {
+  const std::string text = read_flag_file("--token-file", path);
+  const std::string line = text.substr(0, text.find('\n'));
+  const size_t first = line.find_first_not_of(" \t\r");
+  if (first == std::string::npos) throw Error(ErrorCode::invalid_argument, "--token-file '" + path + "': first line is empty");
+  return line.substr(first, line.find_last_not_of(" \t\r") - first + 1);
+}
+
+std::shared_ptr<grpc::ChannelCredentials> channel_credentials(const RemoteOptions& o) {
+  if (!uses_tls(o)) return grpc::InsecureChannelCredentials();
+  if (o.tls_cert.empty() != o.tls_key.empty()) {
+    throw Error(ErrorCode::invalid_argument, "--tls-cert and --tls-key go together (give both or neither)");
+  }
+  grpc::SslCredentialsOptions ssl;
+  if (!o.tls_ca.empty()) ssl.pem_root_certs = read_flag_file("--tls-ca", o.tls_ca);  // empty: system roots
+  if (!o.tls_cert.empty()) {
+    ssl.pem_cert_chain = read_flag_file("--tls-cert", o.tls_cert);
+    ssl.pem_private_key = read_flag_file("--tls-key", o.tls_key);
+  }
+  return grpc::SslCredentials(ssl);
+}
+}  // namespace
+
 RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
+  if (!options_.token_file.empty()) options_.token = read_token_file(options_.token_file);
   grpc::ChannelArguments args;
+  if (!options.tls_server_name.empty()) args.SetSslTargetNameOverride(options.tls_server_name);
   args.SetMaxReceiveMessageSize(-1);
   args.SetMaxSendMessageSize(-1);
   // Notice a dead connection during a long watch.
@@ -171,7 +233,7 @@ RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
     if (options.server.rfind("dns:", 0) == 0) (void)replica_targets(options.server);
     args.SetLoadBalancingPolicyName("round_robin");
   }
-  channel_ = grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  channel_ = grpc::CreateCustomChannel(options.server, channel_credentials(options), args);
   meshes_ = v1::MeshService::NewStub(channel_);
   jobs_ = v1::JobService::NewStub(channel_);
 }

@@ -25,11 +25,20 @@ namespace depath::cli {
 struct RemoteOptions {
   std::string server = "localhost:50051";  ///< host:port, or dns:///host:port / ipv4:a:p,b:p (several replicas)
   std::string token;                       ///< sent as `authorization: Bearer TOKEN`
+  std::string token_file;                  ///< or the token read from this file (its first line)
+  bool tls = false;                        ///< TLS even without the files below (system roots)
+  std::string tls_ca;                      ///< PEM CA bundle that signed the server's certificate
+  std::string tls_cert;                    ///< PEM client certificate (mutual TLS), with tls_key
+  std::string tls_key;
+  std::string tls_server_name;             ///< name checked in the server's certificate (default: the host)
   double connect_timeout_seconds = 10;
   bool json = false;
 };
 
 void add_remote_options(CLI::App& cmd, RemoteOptions& options);
+
+/// Whether the options ask for TLS (--tls or any --tls-* file).
+bool uses_tls(const RemoteOptions& options);
 
 /// The single-address targets behind a multi-replica target, one per replica:
 /// `dns:///host:port` / `dns:host:port` / `dns://authority/host:port` are resolved here
@@ -54,6 +63,8 @@ class RemoteError : public Error {
 
 class RemoteClient {
  public:
+  /// Reads --token-file and the TLS files; throws Error(invalid_argument) naming the flag
+  /// when one cannot be read (or only one of --tls-cert / --tls-key is given).
   explicit RemoteClient(const RemoteOptions& options);
 
   /// A context with the token and, if > 0, a deadline.

@@ -125,9 +125,9 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
 
 grpc::ServerUnaryReactor* JobServiceImpl::SubmitJob(grpc::CallbackServerContext* context,
                                                     const v1::SubmitJobRequest* request, v1::SubmitJobResponse* reply) {
-  return unary(ctx_, context, true, [&] {
+  return unary(ctx_, context, "SubmitJob", true, [&](const std::string& client) {
     try {
-      *reply = ctx_.jobs.submit(*request);
+      *reply = ctx_.job_quota.submit(client, [&] { return ctx_.jobs.submit(*request); });
     } catch (...) {
       const grpc::Status s = current_exception_status();
       ctx_.log.info("job.refused", {{"peer", context->peer()}, {"mesh", request->spec().mesh_id()},
@@ -139,7 +139,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::SubmitJob(grpc::CallbackServerContext*
 
 grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::WatchJob(grpc::CallbackServerContext* context,
                                                                  const v1::WatchJobRequest* request) {
-  grpc::Status status = ctx_.authenticate(context);
+  grpc::Status status = ctx_.authenticate(context, "WatchJob");
   if (!status.ok()) return new WatchReactor(ctx_, status);
   try {
     return new WatchReactor(ctx_, ctx_.jobs.events(request->job_id()), request->after_sequence());
@@ -150,10 +150,11 @@ grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::WatchJob(grpc::CallbackS
 
 grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::Solve(grpc::CallbackServerContext* context,
                                                               const v1::SubmitJobRequest* request) {
-  grpc::Status status = ctx_.admit(context);
+  std::string client;
+  grpc::Status status = ctx_.admit(context, "Solve", &client);
   if (!status.ok()) return new WatchReactor(ctx_, status);
   try {
-    const auto reply = ctx_.jobs.submit(*request);
+    const auto reply = ctx_.job_quota.submit(client, [&] { return ctx_.jobs.submit(*request); });
     return new WatchReactor(ctx_, ctx_.jobs.events(reply.job_id()), 0);
   } catch (...) {
     return new WatchReactor(ctx_, current_exception_status());
@@ -162,22 +163,22 @@ grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::Solve(grpc::CallbackServ
 
 grpc::ServerUnaryReactor* JobServiceImpl::GetJob(grpc::CallbackServerContext* context, const v1::GetJobRequest* request,
                                                  v1::JobInfo* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.get(request->job_id()); });
+  return unary(ctx_, context, "GetJob", false, [&] { *reply = ctx_.jobs.get(request->job_id()); });
 }
 
 grpc::ServerUnaryReactor* JobServiceImpl::GetResult(grpc::CallbackServerContext* context,
                                                     const v1::GetResultRequest* request, v1::JobResult* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.result(request->job_id()); });
+  return unary(ctx_, context, "GetResult", false, [&] { *reply = ctx_.jobs.result(request->job_id()); });
 }
 
 grpc::ServerUnaryReactor* JobServiceImpl::ListJobs(grpc::CallbackServerContext* context,
                                                    const v1::ListJobsRequest* request, v1::ListJobsResponse* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.list(*request); });
+  return unary(ctx_, context, "ListJobs", false, [&] { *reply = ctx_.jobs.list(*request); });
 }
 
 grpc::ServerUnaryReactor* JobServiceImpl::CancelJob(grpc::CallbackServerContext* context,
                                                     const v1::CancelJobRequest* request, v1::JobInfo* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.jobs.cancel(request->job_id()); });
+  return unary(ctx_, context, "CancelJob", false, [&] { *reply = ctx_.jobs.cancel(request->job_id()); });
 }
 
 }  // namespace depath::service

@@ -12,6 +12,9 @@
 #include <fstream>
 #include <future>
 #include <pthread.h>
+#include <stdexcept>
+#include <string>
+#include <vector>
 #include <unistd.h>
 
 namespace {
@@ -20,6 +23,34 @@ std::string default_data_dir() {
   if (const char* state = std::getenv("XDG_STATE_HOME"); state && *state) return std::string(state) + "/depath";
   if (const char* home = std::getenv("HOME"); home && *home) return std::string(home) + "/.local/state/depath";
   return {};
+}
+// --auth-token (each), --auth-token-file (one a line) and DEPATHD_AUTH_TOKENS (separated by
+// commas or white space): every one is accepted.
+std::vector<std::string> gather_tokens(std::vector<std::string> tokens, const std::string& file) {
+  auto add_words = [&](const std::string& text, const std::string& separators) {
+    size_t start = 0;
+    while ((start = text.find_first_not_of(separators, start)) != std::string::npos) {
+      const size_t end = text.find_first_of(separators, start);
+      tokens.push_back(text.substr(start, end == std::string::npos ? std::string::npos : end - start));
+      start = end;
+    }
+  };
+  if (const char* env = std::getenv("DEPATHD_AUTH_TOKENS"); env && *env) add_words(env, ", \t\r\n");
+  if (!file.empty()) {
+    std::ifstream in(file);
+    if (!in) throw std::runtime_error("--auth-token-file '" + file + "': cannot open the file");
+    std::string line;
+    int count = 0;
+    while (std::getline(in, line)) {
+      const size_t first = line.find_first_not_of(" \t\r");
+      if (first == std::string::npos || line[first] == '#') continue;
+      const size_t last = line.find_last_not_of(" \t\r");
+      tokens.push_back(line.substr(first, last - first + 1));
+      ++count;
+    }
+    if (count == 0) throw std::runtime_error("--auth-token-file '" + file + "' holds no token");
+  }
+  return tokens;
 }
 }  // namespace
 
@@ -84,8 +115,45 @@ int main(int argc, char** argv) {
                  "replicas). A restarted replica takes its running jobs back at once instead of after "
                  "--lease-seconds. Default: a random name per start")
       ->envname("DEPATHD_REPLICA_ID");
-  app.add_option("--auth-token", o.auth_token,
-                 "Require metadata 'authorization: Bearer TOKEN' on every call (health exempt)");
+  std::vector<std::string> tokens;
+  std::string token_file;
+  app.add_option("--auth-token", tokens,
+                 "Require metadata 'authorization: Bearer TOKEN' on every call (health exempt); repeat for several "
+                 "tokens. Visible in `ps`: prefer --auth-token-file or DEPATHD_AUTH_TOKENS")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app.add_option("--auth-token-file", token_file,
+                 "File of accepted tokens, one per line (blank lines and lines starting with # ignored)")
+      ->check(CLI::ExistingFile);
+  app.add_option("--auth-failure-burst", o.auth_failure_burst,
+                 "Failed token checks one peer (IP address) may make at once...")
+      ->capture_default_str();
+  app.add_option("--auth-failure-rate", o.auth_failure_rate,
+                 "...and per second after that; past it the peer's calls get RESOURCE_EXHAUSTED")
+      ->capture_default_str();
+  app.add_option("--max-jobs-per-client", o.max_jobs_per_client,
+                 "Queued + running jobs of one client (its token; else its mutual-TLS certificate name; else its IP "
+                 "address); 0 = no cap")
+      ->capture_default_str();
+  app.add_option("--max-requests-per-second-per-client", o.max_requests_per_second_per_client,
+                 "Calls per second of one client (identified as for --max-jobs-per-client); 0 = no cap")
+      ->capture_default_str();
+  app.add_option("--max-concurrent-uploads", o.max_concurrent_uploads,
+                 "Mesh uploads in flight at once; more are refused (RESOURCE_EXHAUSTED)")
+      ->capture_default_str();
+  app.add_option("--tls-cert", o.tls_cert, "PEM certificate (chain) of the server: serve TLS (needs --tls-key)")
+      ->envname("DEPATHD_TLS_CERT");
+  app.add_option("--tls-key", o.tls_key, "PEM private key of --tls-cert (unencrypted)")->envname("DEPATHD_TLS_KEY");
+  app.add_option("--tls-client-ca", o.tls_client_ca,
+                 "PEM CA bundle: mutual TLS, clients must present a certificate signed by it")
+      ->envname("DEPATHD_TLS_CLIENT_CA");
+  app.add_option("--tls-reload-seconds", o.tls_reload_seconds,
+                 "How often the TLS files are re-read: a renewed certificate is served to new connections "
+                 "without a restart (replace key and certificate together, e.g. by renaming a directory)")
+      ->capture_default_str();
+  app.add_option("--health-listen", o.health_listen,
+                 "Also serve the standard gRPC health service alone, in plaintext, on this host:port (for "
+                 "probes that cannot speak TLS or send tokens; e.g. 127.0.0.1:50052 or 0.0.0.0:50052)");
   app.add_option("--log-format", o.log_format, "Log lines as text or json")
       ->check(CLI::IsMember({"text", "json"}))
       ->capture_default_str();
@@ -104,9 +172,13 @@ int main(int argc, char** argv) {
                  "HTTP worker threads; each open event stream holds one (streams beyond threads - 4 get 503)")
       ->capture_default_str()->check(CLI::Range(2, 1024));
   app.add_option("--http-port-file", http_port_file, "Write the HTTP port to this file once serving");
-  // TLS for HTTP: options.http_tls_cert / http_tls_key (HttpServer serves HTTPS when set) are
-  // meant to take the gRPC side's --tls-cert / --tls-key once those flags exist here.
   CLI11_PARSE(app, argc, argv);
+  try {
+    o.auth_tokens = gather_tokens(tokens, token_file);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "depathd: error: %s\n", e.what());
+    return 2;
+  }
   if (o.store.empty() && o.data_dir.empty()) o.data_dir = default_data_dir();
   if (o.store.empty() && o.data_dir.empty()) {
     std::fprintf(stderr, "depathd: error: no --data-dir given and neither XDG_STATE_HOME nor HOME is set\n");

@@ -8,6 +8,9 @@
 #include "service_error.hpp"
 #include "unary_call.hpp"
 
+#include <algorithm>
+#include <atomic>
+#include <cctype>
 #include <mutex>
 
 namespace depath::service {
@@ -21,7 +24,8 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
  public:
   UploadReactor(ServiceContext& ctx, grpc::CallbackServerContext* context, v1::MeshInfo* reply)
       : ctx_(ctx), reply_(reply), peer_(context->peer()) {
-    grpc::Status s = ctx_.admit(context);
+    grpc::Status s = ctx_.admit(context, "UploadMesh");
+    if (s.ok()) s = take_upload_slot();
     if (s.ok()) StartRead(&request_);
     else Finish(s);
     grpc_handoff(this);  // gRPC starts those operations once the handler has returned
@@ -61,15 +65,36 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
 
   void OnDone() override {
     grpc_reaction(this);
+    release_upload_slot();
     delete this;
   }
 
  private:
+  /// One of --max-concurrent-uploads, held until the stream is done (its bytes are freed).
+  grpc::Status take_upload_slot() {
+    const int limit = ctx_.options.max_concurrent_uploads;
+    if (ctx_.uploads.fetch_add(1) >= limit) {
+      ctx_.uploads.fetch_sub(1);
+      return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+              std::to_string(limit) + " mesh uploads are already in flight, the server's limit "
+              "(--max-concurrent-uploads); try again shortly"};
+    }
+    holds_slot_ = true;
+    return grpc::Status::OK;
+  }
+
+  /// Before Finish (the client may start its next upload as soon as it has the answer), or at
+  /// OnDone for a stream that ended otherwise. Once.
+  void release_upload_slot() {
+    if (holds_slot_.exchange(false)) ctx_.uploads.fetch_sub(1);
+  }
+
   grpc::Status too_big(uint64_t n) const { return upload_too_big(ctx_.options, n); }
 
   void fail(const grpc::Status& s) {
     ctx_.log.info("mesh.upload_refused", {{"peer", peer_}, {"code", wire::status_code_name(s.error_code())},
                                           {"reason", s.error_message()}});
+    release_upload_slot();
     grpc_handoff(this);
     Finish(s);
   }
@@ -85,6 +110,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
         status = current_exception_status();
       }
       std::string().swap(bytes_);
+      release_upload_slot();
       grpc_handoff(this);
       Finish(status);
     });
@@ -95,6 +121,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   std::string peer_;
   v1::UploadMeshRequest request_;
   bool have_header_ = false;
+  std::atomic<bool> holds_slot_{false};
   std::string name_, format_, bytes_;
 };
 
@@ -107,17 +134,17 @@ grpc::ServerReadReactor<v1::UploadMeshRequest>* MeshServiceImpl::UploadMesh(grpc
 
 grpc::ServerUnaryReactor* MeshServiceImpl::GetMesh(grpc::CallbackServerContext* context,
                                                    const v1::GetMeshRequest* request, v1::MeshInfo* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.meshes.get(request->id()); });
+  return unary(ctx_, context, "GetMesh", false, [&] { *reply = ctx_.meshes.get(request->id()); });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::ListMeshes(grpc::CallbackServerContext* context,
                                                       const v1::ListMeshesRequest*, v1::ListMeshesResponse* reply) {
-  return unary(ctx_, context, false, [&] { *reply = ctx_.meshes.list(); });
+  return unary(ctx_, context, "ListMeshes", false, [&] { *reply = ctx_.meshes.list(); });
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::DeleteMesh(grpc::CallbackServerContext* context,
                                                       const v1::DeleteMeshRequest* request, v1::DeleteMeshResponse*) {
-  return unary(ctx_, context, false, [&] { ctx_.meshes.remove(request->id()); });
+  return unary(ctx_, context, "DeleteMesh", false, [&] { ctx_.meshes.remove(request->id()); });
 }
 
 }  // namespace depath::service

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace depath::service {
 
@@ -27,7 +28,20 @@ struct ServerOptions {
   /// This replica's name as a lease owner; empty: a random one. A stable name (a StatefulSet
   /// pod's) lets a restarted replica take its own running jobs back at once, lease or not.
   std::string replica_id;
-  std::string auth_token;                 ///< require `authorization: Bearer TOKEN` (optional)
+  /// Accepted bearer tokens (any of them): calls need `authorization: Bearer TOKEN`; empty:
+  /// no authentication. main.cpp gathers them from --auth-token (repeatable),
+  /// --auth-token-file and DEPATHD_AUTH_TOKENS.
+  std::vector<std::string> auth_tokens;
+  double auth_failure_burst = 20;         ///< failed token checks a peer may make at once...
+  double auth_failure_rate = 1;           ///< ...and per second after that; then RESOURCE_EXHAUSTED
+  int max_jobs_per_client = 0;            ///< queued + running jobs of one token (or certificate, or peer); 0 = no cap
+  double max_requests_per_second_per_client = 0;  ///< calls per second of one token (or peer); 0 = no cap
+  int max_concurrent_uploads = 4;         ///< UploadMesh streams in flight; more: RESOURCE_EXHAUSTED
+  std::string tls_cert;                   ///< PEM certificate chain: serve TLS (with tls_key)
+  std::string tls_key;                    ///< PEM private key of tls_cert
+  std::string tls_client_ca;              ///< PEM CA bundle: require client certificates it signed (mutual TLS)
+  double tls_reload_seconds = 60;         ///< how often the TLS files are re-read (certificate rotation)
+  std::string health_listen;              ///< host:port of a plaintext health-only port (empty: none)
   std::string log_format = "text";        ///< "text" or "json"
   std::string log_level = "info";         ///< spdlog level name ("off" in quiet tests)
   int upload_parsers = 2;                 ///< threads parsing uploaded meshes
@@ -40,9 +54,6 @@ struct ServerOptions {
   std::string http_listen;                ///< host:port; empty = off; port 0 picks a free port
   std::string web_root;                   ///< the web page's files; empty: `web` beside the executable
   int http_threads = 16;                  ///< HTTP worker threads (each open event stream holds one)
-  /// TLS for the HTTP listener (both or neither): PEM certificate chain and private key.
-  /// Hook for the gRPC side's --tls-cert/--tls-key, to be wired to the same flags.
-  std::string http_tls_cert, http_tls_key;
 };
 
 }  // namespace depath::service

@@ -13,9 +13,11 @@
 #include "mesh_store.hpp"
 #include "metrics/rpc_interceptor.hpp"
 #include "metrics/service_metrics.hpp"
+#include "reflection_guard.hpp"
 #include "service_context.hpp"
 #include "store/job_store.hpp"
 #include "task_queue.hpp"
+#include "tls_credentials.hpp"
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -44,6 +46,17 @@ void check_options(const ServerOptions& o) {
   if (o.upload_parsers < 1) bad("upload parser threads must be >= 1");
   if (!(o.checkpoint_seconds >= 0)) bad("--checkpoint-seconds must be >= 0 (0 = never)");
   if (!(o.lease_seconds > 0)) bad("--lease-seconds must be > 0");
+  for (const auto& t : o.auth_tokens) {
+    if (t.empty()) bad("an auth token is empty (--auth-token, --auth-token-file, DEPATHD_AUTH_TOKENS)");
+    for (const unsigned char c : t) {
+      if (c <= ' ' || c >= 0x7f) bad("an auth token contains a space or a non-printable character (tokens are sent as HTTP/2 header values)");
+    }
+  }
+  if (!(o.auth_failure_burst >= 1)) bad("--auth-failure-burst must be >= 1");
+  if (!(o.auth_failure_rate > 0)) bad("--auth-failure-rate must be > 0");
+  if (o.max_jobs_per_client < 0) bad("--max-jobs-per-client must be >= 0 (0 = no cap)");
+  if (!(o.max_requests_per_second_per_client >= 0)) bad("--max-requests-per-second-per-client must be >= 0 (0 = no cap)");
+  if (o.max_concurrent_uploads < 1) bad("--max-concurrent-uploads must be >= 1");
 }
 
 std::string store_uri(const ServerOptions& o) {
@@ -78,7 +91,9 @@ struct Server::Impl {
         meshes(o.mesh_cache_bytes, *store, log, ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
         jobs(options, *store, meshes, hub, pool, log, &metrics),
         blocking(o.upload_parsers),
-        context{options, meshes, jobs, log, blocking, metrics},
+        access(options, log),
+        job_quota(o.max_jobs_per_client, jobs),
+        context{options, meshes, jobs, log, blocking, metrics, access, job_quota},
         mesh_service(context),
         job_service(context) {}
 
@@ -91,12 +106,16 @@ struct Server::Impl {
   MeshStore meshes;
   JobManager jobs;
   TaskQueue blocking;
+  AccessGuard access;
+  ClientJobQuota job_quota;
   ServiceContext context;
   MeshServiceImpl mesh_service;
   JobServiceImpl job_service;
   std::unique_ptr<grpc::Server> server;
+  std::unique_ptr<grpc::Server> health_server;  // --health-listen: plaintext, health only
   int port = 0;
   std::unique_ptr<HttpServer> http;  // --http-listen
+  int health_port = 0;
 
   std::mutex mutex;
   std::condition_variable done_cv;
@@ -111,12 +130,14 @@ Server::Server(const ServerOptions& options) {
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
-  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &impl_->port);
+  builder.AddListeningPort(options.listen, make_server_credentials(options), &impl_->port);
   builder.SetMaxReceiveMessageSize(options.max_message_bytes);
   builder.SetMaxSendMessageSize(options.max_message_bytes);
   builder.RegisterService(&impl_->mesh_service);
   builder.RegisterService(&impl_->job_service);
-  builder.experimental().SetInterceptorCreators(rpc_metrics_interceptors(impl_->metrics));
+  auto interceptors = rpc_metrics_interceptors(impl_->metrics);
+  interceptors.push_back(reflection_guard(impl_->access));
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   impl_->server = builder.BuildAndStart();
   if (!impl_->server || impl_->port == 0) {
     impl_.reset();
@@ -132,8 +153,9 @@ Server::Server(const ServerOptions& options) {
       throw;
     }
   }
-  auto* health = impl_->server->GetHealthCheckService();
-  health->SetServingStatus(true);
+  if (!options.health_listen.empty()) start_health_server();
+  impl_->server->GetHealthCheckService()->SetServingStatus(true);
+  if (impl_->health_server) impl_->health_server->GetHealthCheckService()->SetServingStatus(true);
   impl_->log.info("server.started", {{"listen", options.listen},
                                      {"port", impl_->port},
                                      {"threads", impl_->pool.num_threads() + 1},
@@ -145,8 +167,28 @@ Server::Server(const ServerOptions& options) {
                                      {"replica", impl_->jobs.replica_id()},
                                      {"checkpoint_seconds", options.checkpoint_seconds},
                                      {"lease_seconds", options.lease_seconds},
-                                     {"auth", !options.auth_token.empty()}});
+                                     {"auth_tokens", options.auth_tokens.size()},
+                                     {"tls", options.tls_cert.empty() ? "off"
+                                             : options.tls_client_ca.empty() ? "tls" : "mutual"},
+                                     {"health_port", impl_->health_port}});
 }
+
+void Server::start_health_server() {
+  // No service of ours is registered: only the standard health service (and reflection, which
+  // then lists just that), so this unauthenticated plaintext port tells nothing but
+  // SERVING / NOT_SERVING.
+  const std::string address = impl_->options.health_listen;
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(impl_->options.health_listen, grpc::InsecureServerCredentials(), &impl_->health_port);
+  impl_->health_server = builder.BuildAndStart();
+  if (!impl_->health_server || impl_->health_port == 0) {
+    impl_->server->Shutdown();
+    impl_.reset();
+    throw Error(ErrorCode::invalid_argument, "cannot listen on --health-listen '" + address + "' (address in use or invalid?)");
+  }
+}
+
+int Server::health_port() const { return impl_->health_port; }
 
 Server::~Server() {
   if (impl_) shutdown();
@@ -197,6 +239,7 @@ bool Server::shutdown() {
                   std::chrono::duration<double>(s.options.shutdown_timeout_seconds));
   s.log.info("server.shutting_down", {{"running_jobs", s.jobs.running_jobs()}, {"queued_jobs", s.jobs.queued_jobs()}});
   s.server->GetHealthCheckService()->SetServingStatus(false);
+  if (s.health_server) s.health_server->GetHealthCheckService()->SetServingStatus(false);
   s.context.shutting_down.store(true);
   s.jobs.begin_shutdown();
   const bool clean = s.jobs.wait_idle(deadline);
@@ -211,6 +254,7 @@ bool Server::shutdown() {
   s.server->Shutdown(std::chrono::system_clock::now() +
                      std::chrono::duration_cast<std::chrono::system_clock::duration>(grpc_deadline -
                                                                                      std::chrono::steady_clock::now()));
+  if (s.health_server) s.health_server->Shutdown(std::chrono::system_clock::now());
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (clean) s.log.info("server.stopped", {{"seconds", seconds}});
   else s.log.warn("server.stopped", {{"seconds", seconds}, {"reason", "running jobs did not stop in time"}});

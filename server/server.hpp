@@ -22,6 +22,8 @@ class Server {
   int port() const;
   /// The HTTP port (--http-listen), or 0 when there is no HTTP listener.
   int http_port() const;
+  /// The port of --health-listen (0 without it).
+  int health_port() const;
 
   /// Graceful shutdown, bounded by options.shutdown_timeout_seconds: health goes
   /// NOT_SERVING, new work is refused with UNAVAILABLE; on a durable store running jobs
@@ -38,6 +40,7 @@ class Server {
 
  private:
   static void add_state_collector(Impl& s);
+  void start_health_server();
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: MIT
-// What the gRPC service implementations share: the stores, the limits, and the checks that
-// every call goes through (authentication, shutting down).
+// What the service implementations (gRPC and HTTP) share: the stores, the limits, and the
+// checks that every call goes through (authentication and request rate, shutting down).
 #pragma once
 
+#include "access_guard.hpp"
+#include "client_job_quota.hpp"
 #include "job_manager.hpp"
 #include "log.hpp"
 #include "mesh_store.hpp"
@@ -14,6 +16,8 @@
 #include <grpcpp/support/status.h>
 
 #include <atomic>
+#include <string>
+#include <string_view>
 
 namespace depath::service {
 
@@ -24,38 +28,36 @@ struct ServiceContext {
   Log& log;
   TaskQueue& blocking;  ///< for slow work (mesh parsing)
   ServiceMetrics& metrics;
+  AccessGuard& access;
+  ClientJobQuota& job_quota;
   std::atomic<bool> shutting_down{false};
   /// Set once a durable server's jobs are handed back at shutdown: watch streams end, after
   /// the events they have not sent yet, with UNAVAILABLE (the client reconnects).
   std::atomic<bool> release_watchers{false};
+  std::atomic<int> uploads{0};  ///< UploadMesh streams in flight (--max-concurrent-uploads)
 
-  /// OK, or UNAUTHENTICATED when --auth-token is set and the call lacks
-  /// `authorization: Bearer TOKEN`.
-  grpc::Status authenticate(const grpc::CallbackServerContext* ctx) const {
-    const auto& md = ctx->client_metadata();
-    auto it = md.find("authorization");
-    if (it == md.end()) return authorize(nullptr);
-    const std::string got(it->second.data(), it->second.size());
-    return authorize(&got);
+  /// AccessGuard::check of the call (`method` names it in logs): OK, or UNAUTHENTICATED /
+  /// RESOURCE_EXHAUSTED. `client`, if given, receives the caller's identity for quotas.
+  grpc::Status authenticate(const grpc::CallbackServerContext* ctx, std::string_view method,
+                            std::string* client = nullptr) const {
+    const bool mutual_tls = !options.tls_client_ca.empty();
+    return access.check(method, ctx->client_metadata(), ctx->peer(), client,
+                        mutual_tls ? AccessGuard::certificate_name(*ctx) : std::string());
   }
 
-  /// The token check itself, for any transport (gRPC metadata, the HTTP Authorization
-  /// header): `authorization` is the value sent, or null when none was.
-  grpc::Status authorize(const std::string* authorization) const {
-    if (options.auth_token.empty()) return grpc::Status::OK;
-    if (!authorization) {
-      return {grpc::StatusCode::UNAUTHENTICATED, "missing 'authorization: Bearer TOKEN' metadata (server requires a token)"};
-    }
-    const std::string expected = "Bearer " + options.auth_token;
-    if (authorization->size() != expected.size() || *authorization != expected) {
-      return {grpc::StatusCode::UNAUTHENTICATED, "invalid token in 'authorization' metadata"};
-    }
-    return grpc::Status::OK;
+  /// The same check for another transport (HTTP): `authorization` is the value of the
+  /// Authorization header sent (null when none was), `peer` in gRPC's form ("ipv4:ADDR:PORT").
+  grpc::Status authorize(std::string_view method, const std::string* authorization, const std::string& peer,
+                         std::string* client = nullptr) const {
+    AccessGuard::Metadata metadata;
+    if (authorization) metadata.emplace("authorization", grpc::string_ref(*authorization));
+    return access.check(method, metadata, peer, client);
   }
 
   /// authenticate(), then UNAVAILABLE while shutting down (for calls that start new work).
-  grpc::Status admit(const grpc::CallbackServerContext* ctx) const {
-    grpc::Status s = authenticate(ctx);
+  grpc::Status admit(const grpc::CallbackServerContext* ctx, std::string_view method,
+                     std::string* client = nullptr) const {
+    grpc::Status s = authenticate(ctx, method, client);
     if (!s.ok()) return s;
     if (shutting_down.load()) return {grpc::StatusCode::UNAVAILABLE, "server is shutting down"};
     return grpc::Status::OK;

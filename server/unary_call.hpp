@@ -7,17 +7,24 @@
 
 #include <grpcpp/grpcpp.h>
 
+#include <string>
+#include <string_view>
+#include <type_traits>
+
 namespace depath::service {
 
-/// `admit`: also refuse new work while shutting down (UNAVAILABLE); otherwise only check
-/// the token. Any exception thrown by `fn` becomes the matching status.
+/// `method` names the call in logs. `admit`: also refuse new work while shutting down (UNAVAILABLE); otherwise only check
+/// the token. `fn` may take the caller's identity (AccessGuard::check). Any exception thrown by `fn` becomes the matching status.
 template <class Fn>
-grpc::ServerUnaryReactor* unary(ServiceContext& ctx, grpc::CallbackServerContext* context, bool admit, Fn&& fn) {
+grpc::ServerUnaryReactor* unary(ServiceContext& ctx, grpc::CallbackServerContext* context, std::string_view method,
+                                bool admit, Fn&& fn) {
   auto* reactor = context->DefaultReactor();
-  grpc::Status status = admit ? ctx.admit(context) : ctx.authenticate(context);
+  std::string client;
+  grpc::Status status = admit ? ctx.admit(context, method, &client) : ctx.authenticate(context, method, &client);
   if (status.ok()) {
     try {
-      fn();
+      if constexpr (std::is_invocable_v<Fn, const std::string&>) fn(client);
+      else fn();
     } catch (...) {
       status = current_exception_status();
     }

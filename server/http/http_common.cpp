@@ -34,19 +34,24 @@ void send_error(httplib::Response& res, const grpc::Status& status) {
   if (status.error_code() == grpc::StatusCode::UNAUTHENTICATED) res.set_header("WWW-Authenticate", "Bearer");
 }
 
-bool authorized(HttpContext& ctx, const httplib::Request& req, httplib::Response& res) {
+bool authorized(HttpContext& ctx, const httplib::Request& req, httplib::Response& res, std::string* client) {
+  // The peer in gRPC's form, so failed attempts and request rates share their buckets.
+  const std::string peer = (req.remote_addr.find(':') == std::string::npos ? "ipv4:" + req.remote_addr
+                                                                            : "ipv6:[" + req.remote_addr + "]") +
+                           ":" + std::to_string(req.remote_port);
+  const std::string method = "HTTP " + req.method + " " + req.path;  // names the call in auth logs
   grpc::Status s;
   if (req.has_header("Authorization")) {
     const std::string value = req.get_header_value("Authorization");
-    s = ctx.service.authorize(&value);
+    s = ctx.service.authorize(method, &value, peer, client);
   } else if (req.has_param("access_token")) {
     const std::string value = "Bearer " + req.get_param_value("access_token");
-    s = ctx.service.authorize(&value);
+    s = ctx.service.authorize(method, &value, peer, client);
   } else {
-    s = ctx.service.authorize(nullptr);
+    s = ctx.service.authorize(method, nullptr, peer, client);
   }
   if (s.ok()) return true;
-  ctx.service.metrics.auth_failure("http");
+  if (s.error_code() == grpc::StatusCode::UNAUTHENTICATED) ctx.service.metrics.auth_failure("http");
   send_error(res, s);
   return false;
 }

@@ -11,6 +11,7 @@
 
 #include <atomic>
 #include <string>
+#include <type_traits>
 
 namespace depath::service::http {
 
@@ -33,25 +34,34 @@ void send_error(httplib::Response& res, const grpc::Status& status);
 /// Writes a JSON body (200 unless `status` says otherwise).
 void send_json(httplib::Response& res, const nlohmann::json& body, int status = 200);
 
-/// The token check of the gRPC side (ServiceContext::authorize) on the request's
-/// `Authorization` header, or on `?access_token=` for clients that cannot set headers
-/// (EventSource). On failure writes the 401 and returns false.
-bool authorized(HttpContext& ctx, const httplib::Request& req, httplib::Response& res);
+/// The admission check of the gRPC side (ServiceContext::authorize: tokens, failed-attempt
+/// limit, per-client request rate) on the request's `Authorization` header, or on
+/// `?access_token=` for clients that cannot set headers (EventSource). On failure writes the
+/// error (401 or 429) and returns false; on success `client` (if given) is the caller's
+/// identity for per-client quotas.
+bool authorized(HttpContext& ctx, const httplib::Request& req, httplib::Response& res,
+                std::string* client = nullptr);
 
 /// current_exception_status() (service_error.hpp), out of line; call inside a catch block.
 grpc::Status current_status();
 
-/// Runs a /v1 handler: the token check (and, when `admit`, UNAVAILABLE while shutting down),
-/// then `fn`; any exception becomes the error response of its status.
+/// Runs a /v1 handler: the admission check (and, when `admit`, UNAVAILABLE while shutting
+/// down), then `fn` (given the caller's identity if it takes a string); any exception becomes
+/// the error response of its status.
 template <class Fn>
 void api_call(HttpContext& ctx, const httplib::Request& req, httplib::Response& res, bool admit, Fn&& fn) {
-  if (!authorized(ctx, req, res)) return;
+  std::string client;
+  if (!authorized(ctx, req, res, &client)) return;
   if (admit && ctx.service.shutting_down.load()) {
     send_error(res, {grpc::StatusCode::UNAVAILABLE, "server is shutting down"});
     return;
   }
   try {
-    fn();
+    if constexpr (std::is_invocable_v<Fn, const std::string&>) {
+      fn(client);
+    } else {
+      fn();
+    }
   } catch (...) {
     send_error(res, current_status());
   }

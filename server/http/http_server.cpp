@@ -76,13 +76,16 @@ HttpServer::HttpServer(ServiceContext& service) : impl_(std::make_unique<Impl>(s
   if (o.http_threads < 2) throw Error(ErrorCode::invalid_argument, "--http-threads must be >= 2");
   const auto web_root = http::find_web_root(o.web_root);
 
-  if (o.http_tls_cert.empty() != o.http_tls_key.empty())
-    throw Error(ErrorCode::invalid_argument, "TLS for HTTP needs both a certificate and a key");
-  if (!o.http_tls_cert.empty()) {
-    auto tls = std::make_unique<httplib::SSLServer>(o.http_tls_cert.c_str(), o.http_tls_key.c_str());
+  // The gRPC side's --tls-cert/--tls-key (and --tls-client-ca: client certificates required).
+  // httplib reads them once: a renewed certificate reaches HTTP at the next restart.
+  if (o.tls_cert.empty() != o.tls_key.empty())
+    throw Error(ErrorCode::invalid_argument, "TLS for HTTP needs both --tls-cert and --tls-key");
+  if (!o.tls_cert.empty()) {
+    auto tls = std::make_unique<httplib::SSLServer>(o.tls_cert.c_str(), o.tls_key.c_str(),
+                                                    o.tls_client_ca.empty() ? nullptr : o.tls_client_ca.c_str());
     if (!tls->is_valid())
-      throw Error(ErrorCode::invalid_argument, "cannot use the TLS certificate '" + o.http_tls_cert + "' and key '" +
-                                                   o.http_tls_key + "' for HTTP (unreadable or not matching?)");
+      throw Error(ErrorCode::invalid_argument, "cannot use the TLS certificate '" + o.tls_cert + "' and key '" +
+                                                   o.tls_key + "' for HTTP (unreadable or not matching?)");
     impl_->server = std::move(tls);
   } else {
     impl_->server = std::make_unique<httplib::Server>();
@@ -141,7 +144,7 @@ HttpServer::HttpServer(ServiceContext& service) : impl_(std::make_unique<Impl>(s
   thread_ = std::thread([&server] { server.listen_after_bind(); });
   service.log.info("http.started", {{"listen", o.http_listen},
                                     {"port", port_},
-                                    {"tls", !o.http_tls_cert.empty()},
+                                    {"tls", !o.tls_cert.empty()},
                                     {"web_root", web_root ? web_root->string() : std::string()},
                                     {"threads", threads}});
 }

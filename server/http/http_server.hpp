@@ -4,8 +4,8 @@
 // (event_stream.hpp), and the web page (static_files.hpp). Every answer is counted in
 // depath_http_requests_total by route (a fixed set of patterns) and status.
 //
-// TLS: with options.http_tls_cert/http_tls_key it serves HTTPS (httplib::SSLServer; Debian's
-// cpp-httplib is built with OpenSSL). Limits: --http-threads workers; bodies up to the larger
+// TLS: with --tls-cert/--tls-key it serves HTTPS with the gRPC side's certificate (and, with
+// --tls-client-ca, requires client certificates; httplib::SSLServer, Debian's build has OpenSSL). Limits: --http-threads workers; bodies up to the larger
 // of --max-upload-bytes and --max-message-bytes (413 beyond); 5 s read/write timeouts.
 #pragma once
 

@@ -139,7 +139,7 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
 
   server.Post("/v1/jobs", [&ctx](const httplib::Request& req, httplib::Response& res,
                                  const httplib::ContentReader& reader) {
-    api_call(ctx, req, res, true, [&] {
+    api_call(ctx, req, res, true, [&](const std::string& client) {
       const std::string text =
           read_body(reader, static_cast<uint64_t>(ctx.service.options.max_message_bytes), "--max-message-bytes");
       json body;
@@ -150,7 +150,8 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
       }
       const v1::SubmitJobRequest request = submit_request_from_json(body);
       try {
-        const v1::SubmitJobResponse reply = ctx.service.jobs.submit(request);
+        const v1::SubmitJobResponse reply =
+            ctx.service.job_quota.submit(client, [&] { return ctx.service.jobs.submit(request); });
         send_json(res, {{"id", reply.job_id()}, {"existing", reply.existing()}, {"job", job_summary(reply.job())}});
       } catch (...) {
         const grpc::Status s = current_exception_status();

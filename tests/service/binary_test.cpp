@@ -129,7 +129,10 @@ TEST_F(BinaryTest, HelpListsEveryLimit) {
                            "--max-upload-bytes", "--max-message-bytes", "--job-ttl-seconds",
                            "--shutdown-timeout-seconds", "--data-dir", "--auth-token", "--log-format",
                            "--max-concurrent-parses", "--parse-timeout-seconds", "--max-generations",
-                           "--max-evaluations", "--max-job-memory-bytes"}) {
+                           "--max-evaluations", "--max-job-memory-bytes", "--auth-token-file",
+                           "--auth-failure-burst", "--auth-failure-rate", "--max-jobs-per-client",
+                           "--max-requests-per-second-per-client", "--max-concurrent-uploads", "--tls-cert",
+                           "--tls-key", "--tls-client-ca", "--tls-reload-seconds", "--health-listen"}) {
     EXPECT_NE(r.output.find(flag), std::string::npos) << flag;
   }
   const auto bad = run_command(std::string(DEPATHD_BIN) + " --max-running-jobs 0 --listen 127.0.0.1:0");

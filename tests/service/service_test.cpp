@@ -4,6 +4,7 @@
 #include "depath/io/mesh_reader.hpp"
 #include "depath/io/result_writer.hpp"
 #include "depath/solve/solve.hpp"
+#include "access_guard.hpp"
 #include "event_log.hpp"
 #include "mesh_store.hpp"
 #include "grpc/health/v1/health.grpc.pb.h"
@@ -296,7 +297,7 @@ TEST(ServiceJobs, IdempotentSubmitAndResultOfUnfinishedJob) {
 
 TEST(ServiceJobs, AuthTokenRequiredButHealthExempt) {
   auto options = quiet_options();
-  options.auth_token = "s3cret";
+  options.auth_tokens = {"s3cret"};
   TestServer ts(options);
   v1::MeshInfo info;
   auto s = ts.upload(grid_obj(4), "g.obj", &info);
@@ -758,7 +759,7 @@ TEST(ServiceEvents, SlowWatcherGetsCoalescedProgressButEveryStateChange) {
 // naming the flag (budget 0: the deadline has passed by the reader's first check), and a
 // failed parse leaves the store usable.
 TEST(ServiceMeshStore, ParseBudgetStopsAParseWithResourceExhausted) {
-  service::Log log("text", "off");
+  depath::service::Log log("text", "off");
   const auto memory = service::JobStore::open("memory");
   service::MeshStore store(1ull << 30, *memory, log, service::ParseLimits{1, 0.0});
   const std::string big = grid_obj(100);  // 10,000 vertices: past the reader's first deadline check
@@ -815,6 +816,70 @@ TEST(ServiceJobStore, FinishedJobsKeepNoPerVertexArrays) {
     EXPECT_EQ(job->spec.mesh_id(), "m") << id;
   }
   EXPECT_EQ(store->get_result("job-run")->energy(), 1);
+}
+
+// ---- AccessGuard (tokens, failed-attempt limit, request rate) ------------------------------
+
+TEST(AccessGuard, PeerHostDropsThePort) {
+  EXPECT_EQ(service::AccessGuard::peer_host("ipv4:127.0.0.1:54321"), "127.0.0.1");
+  EXPECT_EQ(service::AccessGuard::peer_host("ipv6:[::1]:54321"), "::1");
+  EXPECT_EQ(service::AccessGuard::peer_host("unix:/tmp/s"), "unix:/tmp/s");
+}
+
+TEST(AccessGuard, RateLimiterRefillsAtItsRate) {
+  service::RateLimiter limiter(/*rate=*/2.0, /*burst=*/3.0);
+  const auto t0 = service::RateLimiter::Clock::now();
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(limiter.take("a", t0)) << i;
+  EXPECT_FALSE(limiter.take("a", t0));
+  EXPECT_TRUE(limiter.take("b", t0));  // another key has its own bucket
+  EXPECT_DOUBLE_EQ(limiter.wait_seconds("a", t0), 0.5);
+  EXPECT_FALSE(limiter.available("a", t0 + std::chrono::milliseconds(499)));
+  EXPECT_TRUE(limiter.take("a", t0 + std::chrono::milliseconds(500)));
+  EXPECT_FALSE(limiter.take("a", t0 + std::chrono::milliseconds(500)));
+  // Refill is capped at the burst.
+  const auto later = t0 + std::chrono::seconds(100);
+  for (int i = 0; i < 3; ++i) EXPECT_TRUE(limiter.take("a", later)) << i;
+  EXPECT_FALSE(limiter.take("a", later));
+}
+
+TEST(AccessGuard, AnyConfiguredTokenIsAcceptedAndNamedByPosition) {
+  auto options = quiet_options();
+  options.auth_tokens = {"alpha", "beta", "gamma"};
+  options.auth_failure_burst = 100;
+  service::Log log("text", "off");
+  service::AccessGuard guard(options, log);
+  ASSERT_TRUE(guard.auth_required());
+  using Md = service::AccessGuard::Metadata;
+  const std::string key = "authorization";
+  auto call = [&](const std::string& value, std::string* client) {
+    Md md;
+    if (!value.empty()) md.emplace(grpc::string_ref(key), grpc::string_ref(value));
+    return guard.check("ListJobs", md, "ipv4:10.1.2.3:999", client);
+  };
+  std::string client;
+  ASSERT_TRUE(call("Bearer beta", &client).ok());
+  EXPECT_EQ(client, "token #2");
+  ASSERT_TRUE(call("Bearer gamma", &client).ok());
+  EXPECT_EQ(client, "token #3");
+  for (const std::string bad : {"", "Bearer ", "Bearer alph", "Bearer alphaa", "bearer alpha", "alpha", "Bearer  alpha"}) {
+    const grpc::Status s = call(bad, nullptr);
+    EXPECT_EQ(s.error_code(), StatusCode::UNAUTHENTICATED) << "'" << bad << "'";
+  }
+}
+
+TEST(AccessGuard, NoAuthIdentifiesThePeerAndLimitsItsRate) {
+  auto options = quiet_options();
+  options.max_requests_per_second_per_client = 0.01;  // a bucket of 1, refilled after 100 s
+  service::Log log("text", "off");
+  service::AccessGuard guard(options, log);
+  service::AccessGuard::Metadata md;
+  std::string client;
+  ASSERT_TRUE(guard.check("GetJob", md, "ipv4:10.0.0.7:1", &client).ok());
+  EXPECT_EQ(client, "peer 10.0.0.7");
+  const grpc::Status s = guard.check("GetJob", md, "ipv4:10.0.0.7:2", nullptr);  // same host, other port
+  EXPECT_EQ(s.error_code(), StatusCode::RESOURCE_EXHAUSTED);
+  EXPECT_NE(s.error_message().find("--max-requests-per-second-per-client"), std::string::npos) << s.error_message();
+  EXPECT_TRUE(guard.check("GetJob", md, "ipv4:10.0.0.8:1", nullptr).ok());  // another peer
 }
 
 }  // namespace

@@ -37,6 +37,45 @@ def _pem(value: Optional[PathOrPem]) -> Optional[bytes]:
 TlsOption = Union[None, bool, TLS, grpc.ChannelCredentials]
 
 
+def resolve_tls(tls: TlsOption, ca: Optional[PathOrPem] = None, cert: Optional[PathOrPem] = None,
+                key: Optional[PathOrPem] = None) -> TlsOption:
+    """The TLS settings a Client uses: `tls` when given (not None); else TLS(ca, cert, key) from
+    the arguments, each falling back to the environment variable DEPATH_TLS_CA / DEPATH_TLS_CERT /
+    DEPATH_TLS_KEY (as the depath CLI does); None (plain TCP) when none is set."""
+    if tls is not None:
+        if any(v is not None for v in (ca, cert, key)):
+            raise ValueError("give either tls=... or tls_ca/tls_cert/tls_key, not both")
+        return tls
+    ca = ca if ca is not None else os.environ.get("DEPATH_TLS_CA") or None
+    cert = cert if cert is not None else os.environ.get("DEPATH_TLS_CERT") or None
+    key = key if key is not None else os.environ.get("DEPATH_TLS_KEY") or None
+    if (cert is None) != (key is None):
+        raise ValueError("tls_cert and tls_key (DEPATH_TLS_CERT / DEPATH_TLS_KEY) go together")
+    if ca is None and cert is None:
+        return None
+    return TLS(ca=ca, cert=cert, key=key)
+
+
+def resolve_token(token: Optional[str], token_file: Optional[Union[str, os.PathLike]] = None) -> Optional[str]:
+    """The bearer token: `token`, else the first line of `token_file`, else the environment's
+    DEPATH_TOKEN, else the first line of the file DEPATH_TOKEN_FILE names (as the depath CLI)."""
+    if token is not None and token_file is not None:
+        raise ValueError("give either token or token_file, not both")
+    if token is not None:
+        return token or None
+    if token_file is None:
+        if os.environ.get("DEPATH_TOKEN"):
+            return os.environ["DEPATH_TOKEN"]
+        token_file = os.environ.get("DEPATH_TOKEN_FILE") or None
+    if token_file is None:
+        return None
+    with open(token_file, encoding="utf-8") as f:
+        line = f.readline().strip()
+    if not line:
+        raise ValueError("token file %s: the first line is empty" % os.fspath(token_file))
+    return line
+
+
 def make_channel(address: str, tls: TlsOption, interceptors: Sequence[object] = ()) -> grpc.Channel:
     """A channel to `address` (host:port or any gRPC target): insecure for tls None/False,
     TLS with the system roots for True, else as the TLS settings or credentials say."""

@@ -6,7 +6,7 @@ from typing import Any, Iterable, Iterator, List, Optional, Sequence, Tuple
 
 import grpc
 
-from ._channel import TlsOption, make_channel
+from ._channel import PathOrPem, TlsOption, make_channel, resolve_tls, resolve_token
 from ._errors import NotFound, from_rpc_error
 from ._job import Job
 from ._meshes import MeshBytes, MeshLike, is_mesh_id, mesh_bytes
@@ -22,8 +22,11 @@ class Client:
     """A connection to depathd.
 
     address: "host:port" (or any gRPC target). token: sent as `authorization: Bearer TOKEN`
-    when the server runs with --auth-token. tls: None/False for plain TCP, True for TLS with
-    the system's roots, depath.TLS(ca=..., cert=..., key=...) for a private CA or mutual TLS.
+    when the server runs with --auth-token; or token_file (its first line); default: the
+    environment's DEPATH_TOKEN or DEPATH_TOKEN_FILE. tls: False for plain TCP, True for TLS with
+    the system's roots, depath.TLS(ca=..., cert=..., key=...) for a private CA or mutual TLS;
+    or tls_ca / tls_cert / tls_key (file paths or PEM bytes); default (tls=None and none of
+    those): DEPATH_TLS_CA / DEPATH_TLS_CERT / DEPATH_TLS_KEY from the environment, else plain TCP.
     timeout: seconds for each unary call (connecting included). reconnect_seconds: how long a
     watch keeps retrying without hearing from the server. interceptors: gRPC client
     interceptors (logging, tracing).
@@ -31,11 +34,15 @@ class Client:
     Use as a context manager, or call close()."""
 
     def __init__(self, address: str, token: Optional[str] = None, tls: TlsOption = None, *,
-                 timeout: float = 30.0, reconnect_seconds: float = 60.0, interceptors: Sequence[Any] = ()):
+                 timeout: float = 30.0, reconnect_seconds: float = 60.0, interceptors: Sequence[Any] = (),
+                 token_file: Optional[str] = None, tls_ca: Optional[PathOrPem] = None,
+                 tls_cert: Optional[PathOrPem] = None, tls_key: Optional[PathOrPem] = None):
         self.address = address
         self.timeout = timeout
         self.reconnect_seconds = reconnect_seconds
+        token = resolve_token(token, token_file)
         self._metadata: Tuple[Tuple[str, str], ...] = (("authorization", "Bearer " + token),) if token else ()
+        tls = resolve_tls(tls, tls_ca, tls_cert, tls_key)
         self._tls = tls
         self._channel = make_channel(address, tls, interceptors)
         self._meshes = mesh_pb2_grpc.MeshServiceStub(self._channel)

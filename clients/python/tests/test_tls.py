@@ -65,3 +65,24 @@ def test_mutual_tls(start_server, certs):
     tls = depath.TLS(ca=certs / "ca.crt", cert=certs / "client.crt", key=certs / "client.key")
     with depath.Client(server.address, tls=tls, timeout=30 * TIME_SCALE) as c:
         assert c.run((V, F), 0, 35, method="fmm").points.shape[1] == 3
+
+
+def test_tls_arguments_and_environment(start_server, certs, monkeypatch):
+    """tls_ca / tls_cert / tls_key, and DEPATH_TLS_CA / _CERT / _KEY as the CLI reads them."""
+    server = start_server("--tls-cert", certs / "server.crt", "--tls-key", certs / "server.key",
+                          "--tls-client-ca", certs / "ca.crt")
+    with depath.Client(server.address, tls_ca=certs / "ca.crt", tls_cert=certs / "client.crt",
+                       tls_key=certs / "client.key", timeout=30 * TIME_SCALE) as c:
+        assert c.list_jobs() == []
+    with depath.Client(server.address, tls_ca=certs / "ca.crt", timeout=2 * TIME_SCALE) as anonymous:
+        refused(anonymous)
+    monkeypatch.setenv("DEPATH_TLS_CA", str(certs / "ca.crt"))
+    monkeypatch.setenv("DEPATH_TLS_CERT", str(certs / "client.crt"))
+    monkeypatch.setenv("DEPATH_TLS_KEY", str(certs / "client.key"))
+    with depath.Client(server.address, timeout=30 * TIME_SCALE) as c:
+        assert c.list_jobs() == []
+    with depath.Client(server.address, tls=False, timeout=2 * TIME_SCALE) as plain:  # explicit: no TLS
+        refused(plain)
+    monkeypatch.delenv("DEPATH_TLS_KEY")
+    with pytest.raises(ValueError, match="go together"):
+        depath.Client(server.address)

@@ -3,7 +3,7 @@
 // {"error":{"code","message"}} with the HTTP status of the gRPC code the same operation gives.
 #pragma once
 
-#include "service_context.hpp"
+#include "service_context.hpp"  // first: httplib.h pulls in <resolv.h>, whose `_res` macro breaks Eigen
 
 #include <grpcpp/support/status.h>
 #include <httplib.h>

@@ -28,6 +28,8 @@
 //    diagonal (quality = energy / fmm energy).
 // Paper evaluations = agents x (iterations + 1) (the initial population is evaluated too).
 // On the grids and the cone the evaluations match ours, so the ratio is the ratio of times.
+// "paper [s]" is the paper's time scaled to the evaluations we ran (its row time unless
+// --max-iterations caps the run).
 //
 // Without --rows, the 1 -> 2 thread scaling of generation throughput and the quality of
 // seeded `de` against the Steiner truth follow the table.
@@ -39,12 +41,7 @@
 //   --threads         evaluation threads (default 2, the issue's setting)
 //   --max-iterations  caps every row's iterations (ratios stay per evaluation)
 //   --repeat          runs each row K times and keeps the fastest (the runs are identical)
-#include "depath/io/mesh_reader.hpp"
-#include "depath/io/vertex_data.hpp"
-#include "depath/mesh/tangent_fields.hpp"
-#include "depath/solve/solve.hpp"
-#include "depath/generators/surfaces.hpp"
-#include "../tests/job_builders.hpp"
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -58,9 +55,15 @@
 #include <optional>
 #include <sstream>
 #include <string>
-#include <sys/resource.h>
 #include <thread>
 #include <vector>
+
+#include "../tests/job_builders.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/vertex_data.hpp"
+#include "depath/mesh/tangent_fields.hpp"
+#include "depath/solve/solve.hpp"
 
 #ifndef DEPATH_SHARED_DATA
 #define DEPATH_SHARED_DATA "../shared/data"
@@ -105,7 +108,8 @@ std::vector<PaperRow> read_table1(const std::string& path) {
 
 // Our problem for a paper row.
 struct Experiment {
-  Experiment(std::string name, Mesh m, JobSpec j) : mesh_name(std::move(name)), mesh(std::move(m)), job(std::move(j)) {}
+  Experiment(std::string name, Mesh m, JobSpec j)
+      : mesh_name(std::move(name)), mesh(std::move(m)), job(std::move(j)) {}
   std::string mesh_name;
   Mesh mesh;
   JobSpec job;
@@ -134,7 +138,8 @@ int grid_vertex(int n, double h, double x, double y) {
 }
 
 // First pair of `mesh` in a truth csv (mesh,[density,]source,target,value...).
-bool truth_pair(const std::string& csv_path, const std::string& mesh, int skip, int& s, int& t, double& value) {
+bool truth_pair(const std::string& csv_path, const std::string& mesh, int skip, int& s, int& t,
+                double& value) {
   std::ifstream csv(csv_path);
   std::string line;
   while (std::getline(csv, line)) {
@@ -182,7 +187,8 @@ Experiment make_experiment(const PaperRow& row, const std::string& data) {
   }
   if (c == "complex 1" || c == "complex 2") {
     const int n = grid_side(row);
-    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0), base};
+    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0),
+                 base};
     const bool first = c == "complex 1";
     e.job.source = first ? grid_vertex(n, 3.0, -1.5, -1.5) : grid_vertex(n, 3.0, -2.25, 0.0);
     e.job.target = first ? grid_vertex(n, 3.0, 1.5, 1.5) : grid_vertex(n, 3.0, 2.25, 0.0);
@@ -206,15 +212,18 @@ Experiment make_experiment(const PaperRow& row, const std::string& data) {
   }
   if (c == "peaks") {
     const int n = grid_side(row);
-    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0), base};
+    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0),
+                 base};
     e.job.source = grid_vertex(n, 3.0, -2.25, -2.25);
     e.job.target = grid_vertex(n, 3.0, 2.25, 1.5);
     e.job.energy.kind = EnergyKind::constant_slope;
     e.job.energy.slope = parse_slope(row.application);
     return e;
   }
-  const std::map<std::string, std::string> files = {
-      {"Kitten", "kitten.off"}, {"Dragon", "dragon.obj"}, {"Beethoven", "beethoven.ply"}, {"Bimba", "bimba.obj"}};
+  const std::map<std::string, std::string> files = {{"Kitten", "kitten.off"},
+                                                    {"Dragon", "dragon.obj"},
+                                                    {"Beethoven", "beethoven.ply"},
+                                                    {"Bimba", "bimba.obj"}};
   const auto file = files.find(c);
   if (file == files.end()) throw std::runtime_error("no experiment for this row");
   Experiment e{file->second, load_mesh(data + "/meshes/" + file->second), base};
@@ -253,13 +262,17 @@ std::string quality(const Experiment& e, const SolveResult& r) {
   for (const char* name : {"mean_slope_error", "normalized_energy"}) {
     for (const Metric& m : r.metrics) {
       if (m.name != name) continue;
-      std::snprintf(text, sizeof text, "%s %.4f", m.name == "normalized_energy" ? "norm.E" : "slope err", m.value);
+      std::snprintf(text, sizeof text, "%s %.4f", m.name == "normalized_energy" ? "norm.E" : "slope err",
+                    m.value);
       return text;
     }
   }
-  if (e.truth_name == "exact") std::snprintf(text, sizeof text, "len/exact %.4f", r.length / e.truth);
-  else if (e.truth_name == "k16") std::snprintf(text, sizeof text, "E/k16 %.4f", r.energy / e.truth);
-  else std::snprintf(text, sizeof text, "E/fmm %.4f", r.energy / r.fmm_energy);
+  if (e.truth_name == "exact")
+    std::snprintf(text, sizeof text, "len/exact %.4f", r.length / e.truth);
+  else if (e.truth_name == "k16")
+    std::snprintf(text, sizeof text, "E/k16 %.4f", r.energy / e.truth);
+  else
+    std::snprintf(text, sizeof text, "E/fmm %.4f", r.energy / r.fmm_energy);
   return text;
 }
 
@@ -281,7 +294,8 @@ bool selected(const std::string& rows, int number, const PaperRow& row) {
 double cpu_seconds() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 struct Throughput {
@@ -317,10 +331,12 @@ void quality_section(const std::string& data, int threads, bool quick) {
   }
   const int pairs_per_mesh = quick ? 1 : 3;
   const int generations = quick ? 10 : 50;
-  std::printf("\nquality vs truth (bump densities; de seeded with the problem, 20 agents, %d generations; "
-              "k16 = Steiner-graph cost, 16 points/edge, slightly above the optimum)\n", generations);
-  std::printf("%-16s %6s %6s %12s %12s %12s %12s %9s %9s\n", "mesh", "s", "t", "k16", "fmm/k16", "rand1bin/k16",
-              "shade/k16", "r1b [s]", "shade [s]");
+  std::printf(
+      "\nquality vs truth (bump densities; de seeded with the problem, 20 agents, %d generations; "
+      "k16 = Steiner-graph cost, 16 points/edge, slightly above the optimum)\n",
+      generations);
+  std::printf("%-16s %6s %6s %12s %12s %12s %12s %9s %9s\n", "mesh", "s", "t", "k16", "fmm/k16",
+              "rand1bin/k16", "shade/k16", "r1b [s]", "shade [s]");
   std::string line;
   std::getline(csv, line);
   std::map<std::string, int> seen;
@@ -359,7 +375,6 @@ void quality_section(const std::string& data, int threads, bool quick) {
   }
 }
 
-
 // The paper-sized geodesic problem of the thread-scaling figure: a 125 x 125 flat grid
 // (15,625 vertices) with a bump at the centre, 30 agents.
 void scaling_section(const std::string& strategy) {
@@ -374,13 +389,16 @@ void scaling_section(const std::string& strategy) {
   }
   const Throughput one = throughput(mesh, job, 1, 8);
   const Throughput two = throughput(mesh, job, 2, 8);
-  std::printf("\nthread scaling (grid 125x125 flat + bump, 30 agents): 1 thread %.2f generations/s (%.1f ms/generation), "
-              "2 threads %.2f generations/s -> %.2fx\n",
-              one.generations_per_second, 1e3 / one.generations_per_second, two.generations_per_second,
-              two.generations_per_second / one.generations_per_second);
-  std::printf("  CPU cores the process actually got: %.2f with 1 thread, %.2f with 2 threads "
-              "(below 2 means other load on the machine caps the scaling)\n",
-              one.cores_used, two.cores_used);
+  std::printf(
+      "\nthread scaling (grid 125x125 flat + bump, 30 agents): 1 thread %.2f generations/s (%.1f "
+      "ms/generation), "
+      "2 threads %.2f generations/s -> %.2fx\n",
+      one.generations_per_second, 1e3 / one.generations_per_second, two.generations_per_second,
+      two.generations_per_second / one.generations_per_second);
+  std::printf(
+      "  CPU cores the process actually got: %.2f with 1 thread, %.2f with 2 threads "
+      "(below 2 means other load on the machine caps the scaling)\n",
+      one.cores_used, two.cores_used);
 }
 
 }  // namespace
@@ -391,13 +409,20 @@ int main(int argc, char** argv) {
   std::string data = DEPATH_SHARED_DATA, strategy = "rand1bin", rows_arg;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--threads" && i + 1 < argc) threads = std::max(1, std::atoi(argv[++i]));
-    else if (arg == "--rows" && i + 1 < argc) rows_arg = argv[++i];
-    else if (arg == "--max-iterations" && i + 1 < argc) max_iterations = std::max(1, std::atoi(argv[++i]));
-    else if (arg == "--seeded") seeded = true;
-    else if (arg == "--data" && i + 1 < argc) data = argv[++i];
-    else if (arg == "--strategy" && i + 1 < argc) strategy = argv[++i];
-    else if (arg == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
+    if (arg == "--threads" && i + 1 < argc)
+      threads = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--rows" && i + 1 < argc)
+      rows_arg = argv[++i];
+    else if (arg == "--max-iterations" && i + 1 < argc)
+      max_iterations = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--seeded")
+      seeded = true;
+    else if (arg == "--data" && i + 1 < argc)
+      data = argv[++i];
+    else if (arg == "--strategy" && i + 1 < argc)
+      strategy = argv[++i];
+    else if (arg == "--repeat" && i + 1 < argc)
+      repeat = std::max(1, std::atoi(argv[++i]));
     else {
       std::fprintf(stderr,
                    "usage: %s [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR] "
@@ -412,15 +437,18 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::vector<PaperRow> paper = read_table1(csv);
-  std::printf("DE-Path Table 1 (%s), re-run with %d thread(s), strategy %s, %s, fastest of %d run(s)%s\n", csv.c_str(),
-              threads, strategy.c_str(), seeded ? "seeded with the problem" : "paper initialisation", repeat,
+  std::printf("DE-Path Table 1 (%s), re-run with %d thread(s), strategy %s, %s, fastest of %d run(s)%s\n",
+              csv.c_str(), threads, strategy.c_str(),
+              seeded ? "seeded with the problem" : "paper initialisation", repeat,
               max_iterations > 0 ? (", iterations capped at " + std::to_string(max_iterations)).c_str() : "");
-  std::printf("ratio = paper's time per evaluation / ours (per vertex too where the vertex counts differ: *);\n"
-              "cores = CPU time / wall time the solve got (below the threads: the machine was loaded);\n"
-              "full-core ratio = the ratio had it got every thread's core (paper / (CPU per evaluation / threads))\n\n");
-  std::printf("%2s %-34s %-14s %6s %6s %6s %5s %8s %9s %9s %7s %11s %5s %9s %-17s %s\n", "#", "experiment", "mesh", "n",
-              "paper", "agents", "iter", "evals", "ours [s]", "paper [s]", "ratio", "CPU ms/eval", "cores",
-              "full-core", "quality", "stop");
+  std::printf(
+      "ratio = paper's time per evaluation / ours (per vertex too where the vertex counts differ: *);\n"
+      "cores = CPU time / wall time the solve got (below the threads: the machine was loaded);\n"
+      "full-core ratio = the ratio had it got every thread's core (paper / (CPU per evaluation / "
+      "threads))\n\n");
+  std::printf("%2s %-34s %-14s %6s %6s %6s %5s %8s %9s %9s %7s %11s %5s %9s %-17s %s\n", "#", "experiment",
+              "mesh", "n", "paper", "agents", "iter", "evals", "ours [s]", "paper [s]", "ratio",
+              "CPU ms/eval", "cores", "full-core", "quality", "stop");
   double worst = INFINITY;
   int number = 0;
   for (const PaperRow& row : paper) {
@@ -453,9 +481,9 @@ int main(int argc, char** argv) {
       const double ratio = paper_per_eval / (wall / evaluations);
       worst = std::min(worst, ratio);
       const double full_core_ratio = paper_per_eval / (cpu / evaluations / threads);
-      std::printf("%2d %-34s %-14s %6d %6d %6d %5d %8.0f %9.2f %9.1f %6.1fx%s %11.3f %5.2f %8.1fx %-17s %s\n", number,
-                  row.label().c_str(), e.mesh_name.c_str(), n, row.vertices, job.de.population, r.generations,
-                  evaluations, wall, row.seconds * evaluations / paper_evaluations, ratio,
+      std::printf("%2d %-34s %-14s %6d %6d %6d %5d %8.0f %9.2f %9.1f %6.1fx%s %11.3f %5.2f %8.1fx %-17s %s\n",
+                  number, row.label().c_str(), e.mesh_name.c_str(), n, row.vertices, job.de.population,
+                  r.generations, evaluations, wall, row.seconds * evaluations / paper_evaluations, ratio,
                   n == row.vertices ? " " : "*", 1e3 * cpu / evaluations, cpu / wall, full_core_ratio,
                   quality(e, r).c_str(), r.stop_reason.c_str());
     } catch (const std::exception& ex) {

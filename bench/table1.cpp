@@ -1,33 +1,47 @@
 // SPDX-License-Identifier: MIT
-// Table 1 of the DE-Path paper, re-run: for each experiment (application, mesh, vertex
-// count, agents, iterations) our wall time for the whole `de` solve next to the paper's,
-// their ratio, and the quality against the `fmm` baseline; then the 1 -> 2 thread scaling
-// of generation throughput.
+// Table 1 of the DE-Path paper ("Computation times of our method"), re-run row by row from
+// the paper's own figures (shared data: paper/table1.csv, read at run time): each row's
+// experiment on a mesh with the paper's vertex count, the paper's agents (population) and
+// iterations (generations), `de` with rand1bin and the paper's random initialisation.
+// Printed per row: our wall time for the whole solve, the paper's, their ratio, our CPU per
+// evaluation and the quality reached.
 //
-// The paper's per-row times are not available to us. They are ESTIMATED from the paper's
-// reported cost of about 23 ms per agent evaluation (decode + energy) on a mesh of about
-// 15.6k vertices, scaled linearly with the vertex count:
-//   paper_seconds ~= evaluations x 0.023 s x (n / 15600),   evaluations = agents x (iterations + 1).
-// Rows follow the paper's experiments: geodesics under a non-uniform density on a
-// ~15.6k-vertex mesh, vector-field paths on 41x41 / 81x81 / 121x121 grids, constant-slope
-// paths on terrains; agents 20-40, iterations 100-500.
+// Rows and meshes (vertex ids chosen so the paths cross most of the surface):
+//  - vector field, simple converge: flat n x n grid over [-3, 3]^2 (n = sqrt of the paper's
+//    count: 41, 81, 121), field (1, -y) (`depath generate grid --field converge`),
+//    s = (n/2) n + n/8, t = (n/3) n + 7n/8 (the acceptance check's pair).
+//  - simple rotation: flat grid over [-1, 1]^2, circles around the centre, s = (0.45, -0.6),
+//    t = (-0.45, -0.6) on one circle (the test suite's Fig. 7 pair).
+//  - complex 1 / complex 2: MATLAB peaks grid, its height gradient rotated by 90 degrees
+//    (contour lines), smoothness 0.1 (the paper's Fig. 3 setting); two s/t pairs on the
+//    same field (the paper's second field is not available).
+//  - constant slope (k from the application text): a cone of 20 rings x 84 sectors + apex
+//    (1,681 vertices, height 1, radius 1), rim -> half radius at 120 degrees; the peaks grid.
+//  - geodesics on the shared meshes (their vertex counts differ from the paper's: kitten
+//    2,500 vs 1,370, dragon 10,002 vs 5,098, beethoven 2,521 vs 10,406, bimba 23,112 vs
+//    15,653), so the ratio is per evaluation and per vertex:
+//      ratio = (paper s / paper evaluations / paper vertices) / (ours s / our evaluations / our vertices).
+//    Kitten and Dragon: uniform density, a pair of truth/geodesic_exact.csv (quality = our
+//    length / exact). Beethoven: its bumps density, a pair of truth/weighted_steiner.csv
+//    (quality = energy / Steiner cost, 16 points per edge). Bimba: no shared density, so a
+//    Gaussian bump 1 + 4 exp(-d^2 / 2 sigma^2) at the centroid, sigma = 0.15 x bounding-box
+//    diagonal (quality = energy / fmm energy).
+// Paper evaluations = agents x (iterations + 1) (the initial population is evaluated too).
+// On the grids and the cone the evaluations match ours, so the ratio is the ratio of times.
+// "paper [s]" is the paper's time scaled to the evaluations we ran (its row time unless
+// --max-iterations caps the run).
 //
-// Finally, quality against truth: on the shared meshes with bump densities, `fmm`, and
-// `de` seeded with the problem (rand1bin and shade), each against the Steiner-graph cost
-// (16 points per edge; an upper bound a little above the optimum).
+// Without --rows, the 1 -> 2 thread scaling of generation throughput and the quality of
+// seeded `de` against the Steiner truth follow the table.
 //
-// Usage: bench_table1 [--threads T] [--quick] [--data DIR] [--strategy NAME] [--seeded] [--only TEXT]
-//                     [--repeat K]
-//   --quick  caps every row at 20 iterations (smoke run; ratios stay per-evaluation fair
-//            because the paper time is estimated for the evaluations actually run).
-//   --only   runs just the rows whose "application mesh" contains TEXT (for profiling).
-//   --repeat runs each row K times and reports the fastest (the runs are identical, so the
-//            spread is the machine's other load; default 1).
-#include "depath/io/mesh_reader.hpp"
-#include "depath/io/vertex_data.hpp"
-#include "depath/solve/solve.hpp"
-#include "depath/generators/surfaces.hpp"
-#include "../tests/job_builders.hpp"
+// Usage: bench_table1 [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR]
+//                     [--strategy NAME] [--seeded]
+//   --rows            comma-separated row numbers (1-based, csv order) or texts matched against
+//                     "application category" (e.g. --rows 1,3 or --rows converge)
+//   --threads         evaluation threads (default 2, the issue's setting)
+//   --max-iterations  caps every row's iterations (ratios stay per evaluation)
+//   --repeat          runs each row K times and keeps the fastest (the runs are identical)
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -38,12 +52,18 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <sstream>
 #include <optional>
-#include <sys/resource.h>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "../tests/job_builders.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/vertex_data.hpp"
+#include "depath/mesh/tangent_fields.hpp"
+#include "depath/solve/solve.hpp"
 
 #ifndef DEPATH_SHARED_DATA
 #define DEPATH_SHARED_DATA "../shared/data"
@@ -53,91 +73,229 @@ namespace {
 
 using namespace depath;
 
-constexpr double kPaperSecondsPerEvaluation = 0.023;  // at kPaperVertices
-constexpr double kPaperVertices = 15600.0;
-
-struct Row {
-  std::string application;
-  std::string mesh_name;
-  std::optional<Mesh> mesh;
-  JobSpec job;
+// One line of paper/table1.csv.
+struct PaperRow {
+  std::string application, category;
+  int vertices = 0, agents = 0, iterations = 0;
+  double seconds = 0.0;
+  std::string label() const { return application + " " + category; }
 };
 
-Mesh grid(int n, GridHeight height) {
-  GridOptions options;
-  options.n = n;
-  options.height = height;
-  options.diagonals = GridDiagonals::alternating;
-  return make_grid(options);
-}
-
-// 1 + 4 x Gaussian bump of width sigma at the grid centre: geodesics must bend around it.
-std::vector<double> centre_bump(const Mesh& mesh, double sigma) {
-  std::vector<double> rho(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec3& p = mesh.position(v);
-    rho[v] = 1.0 + 4.0 * std::exp(-(p.x() * p.x() + p.y() * p.y()) / (2.0 * sigma * sigma));
-  }
-  return rho;
-}
-
-// Seed 1; threads are set per run.
-JobSpec job_for(int source, int target, int agents, int iterations) {
-  return test::de_job(source, target, agents, iterations, /*seed=*/1, /*threads=*/0);
-}
-
-std::vector<Row> make_rows(const std::string& data) {
-  std::vector<Row> rows;
-  // Geodesic, non-uniform density, on a real mesh (shared data) and on a 125x125 grid
-  // (15,625 vertices: the paper's mesh size).
-  const std::string dragon = data + "/meshes/dragon.obj";
-  const std::string dragon_density = data + "/fields/dragon.bumps.density";
-  if (std::filesystem::exists(dragon) && std::filesystem::exists(dragon_density)) {
-    Row r{"geodesic (bumps)", "dragon.obj", load_mesh(dragon), job_for(0, 5000, 30, 100)};
-    r.job.energy.density = read_scalar_file(dragon_density);
-    rows.push_back(std::move(r));
-  } else {
-    std::printf("(shared data not found under %s: dragon row skipped)\n", data.c_str());
-  }
-  {
-    Row r{"geodesic (bump)", "grid 125x125 flat", grid(125, GridHeight::flat), job_for(0, 125 * 125 - 1, 30, 100)};
-    r.job.energy.density = centre_bump(*r.mesh, 1.2);
-    rows.push_back(std::move(r));
-  }
-  // Vector field: the height gradient of `peaks` rotated by 90 degrees (contour lines).
-  const int sizes[3] = {41, 81, 121}, agents[3] = {20, 30, 40}, iterations[3] = {200, 300, 500};
-  for (int k = 0; k < 3; ++k) {
-    const int n = sizes[k];
-    Row r{"vector_field", "grid " + std::to_string(n) + "x" + std::to_string(n) + " peaks",
-          grid(n, GridHeight::peaks), job_for(n * (n / 4) + n / 4, n * (3 * n / 4) + 3 * n / 4, agents[k], iterations[k])};
-    r.job.energy.kind = EnergyKind::vector_field;
-    r.job.energy.field_from_height = true;
-    r.job.energy.rotate_degrees = 90.0;
-    r.job.energy.smoothness = 0.01;
-    rows.push_back(std::move(r));
-  }
-  // Constant slope on terrains.
-  {
-    const int n = 81;
-    Row r{"constant_slope", "grid 81x81 peaks", grid(n, GridHeight::peaks), job_for(n * 10 + 10, n * 70 + 60, 30, 200)};
-    r.job.energy.kind = EnergyKind::constant_slope;
-    r.job.energy.slope = 0.5;
-    rows.push_back(std::move(r));
-  }
-  const std::string terrain = data + "/meshes/terrain_grid30.obj";
-  if (std::filesystem::exists(terrain)) {
-    Row r{"constant_slope", "terrain_grid30.obj", load_mesh(terrain), job_for(0, 899, 20, 100)};
-    r.job.energy.kind = EnergyKind::constant_slope;
-    r.job.energy.slope = 0.05;
-    rows.push_back(std::move(r));
+std::vector<PaperRow> read_table1(const std::string& path) {
+  std::ifstream csv(path);
+  std::vector<PaperRow> rows;
+  std::string line;
+  std::getline(csv, line);  // header
+  while (std::getline(csv, line)) {
+    if (line.empty()) continue;
+    std::stringstream in(line);
+    PaperRow r;
+    std::string field;
+    std::getline(in, r.application, ',');
+    std::getline(in, r.category, ',');
+    std::getline(in, field, ',');
+    r.vertices = std::stoi(field);
+    std::getline(in, field, ',');
+    r.agents = std::stoi(field);
+    std::getline(in, field, ',');
+    r.iterations = std::stoi(field);
+    std::getline(in, field, ',');
+    r.seconds = std::stod(field);
+    rows.push_back(r);
   }
   return rows;
+}
+
+// Our problem for a paper row.
+struct Experiment {
+  Experiment(std::string name, Mesh m, JobSpec j)
+      : mesh_name(std::move(name)), mesh(std::move(m)), job(std::move(j)) {}
+  std::string mesh_name;
+  Mesh mesh;
+  JobSpec job;
+  double truth = 0.0;      // > 0: reference for the quality column
+  std::string truth_name;  // "exact" (length) or "k16" (energy)
+};
+
+int grid_side(const PaperRow& row) {
+  const int n = static_cast<int>(std::lround(std::sqrt(row.vertices)));
+  if (n * n != row.vertices) throw std::runtime_error("vertex count is not a square grid");
+  return n;
+}
+
+Mesh grid(int n, GridHeight height, double half_size) {
+  GridOptions o;
+  o.n = n;
+  o.height = height;
+  o.half_size = half_size;
+  return make_grid(o);
+}
+
+// Grid vertex nearest to plane point (x, y) of a grid over [-h, h]^2.
+int grid_vertex(int n, double h, double x, double y) {
+  const auto index = [&](double u) { return static_cast<int>(std::lround((u + h) / (2 * h) * (n - 1))); };
+  return index(y) * n + index(x);
+}
+
+// First pair of `mesh` in a truth csv (mesh,[density,]source,target,value...).
+bool truth_pair(const std::string& csv_path, const std::string& mesh, int skip, int& s, int& t,
+                double& value) {
+  std::ifstream csv(csv_path);
+  std::string line;
+  while (std::getline(csv, line)) {
+    if (line.rfind(mesh + ",", 0) != 0) continue;
+    std::stringstream in(line);
+    std::string field;
+    for (int k = 0; k <= skip; ++k) std::getline(in, field, ',');
+    std::getline(in, field, ',');
+    s = std::stoi(field);
+    std::getline(in, field, ',');
+    t = std::stoi(field);
+    std::getline(in, field, ',');
+    value = std::stod(field);
+    return true;
+  }
+  return false;
+}
+
+double parse_slope(const std::string& application) {
+  const size_t eq = application.find('=');
+  if (eq == std::string::npos) throw std::runtime_error("no 'k = ...' in the application");
+  return std::stod(application.substr(eq + 1));
+}
+
+Experiment make_experiment(const PaperRow& row, const std::string& data) {
+  const JobSpec base = test::de_job(0, 0, row.agents, row.iterations, /*seed=*/1, /*threads=*/0);
+  const std::string& c = row.category;
+  if (c == "simple converge") {
+    const int n = grid_side(row);
+    Experiment e{"grid " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::flat, 3.0), base};
+    e.job.source = (n / 2) * n + n / 8;
+    e.job.target = (n / 3) * n + (7 * n) / 8;
+    e.job.energy.kind = EnergyKind::vector_field;
+    e.job.energy.field = converge_field(e.mesh, Vec3::Zero(), 2, 1.0);
+    return e;
+  }
+  if (c == "simple rotation") {
+    const int n = grid_side(row);
+    Experiment e{"grid " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::flat, 1.0), base};
+    e.job.source = grid_vertex(n, 1.0, 0.45, -0.6);
+    e.job.target = grid_vertex(n, 1.0, -0.45, -0.6);
+    e.job.energy.kind = EnergyKind::vector_field;
+    e.job.energy.field = rotation_field(e.mesh, Vec3::Zero(), 2);
+    return e;
+  }
+  if (c == "complex 1" || c == "complex 2") {
+    const int n = grid_side(row);
+    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0),
+                 base};
+    const bool first = c == "complex 1";
+    e.job.source = first ? grid_vertex(n, 3.0, -1.5, -1.5) : grid_vertex(n, 3.0, -2.25, 0.0);
+    e.job.target = first ? grid_vertex(n, 3.0, 1.5, 1.5) : grid_vertex(n, 3.0, 2.25, 0.0);
+    e.job.energy.kind = EnergyKind::vector_field;
+    e.job.energy.field_from_height = true;
+    e.job.energy.rotate_degrees = 90.0;
+    e.job.energy.smoothness = 0.1;
+    return e;
+  }
+  if (c == "cone") {
+    ConeOptions o;
+    o.rings = 20;
+    if ((row.vertices - 1) % o.rings != 0) throw std::runtime_error("vertex count is not 1 + 20 x sectors");
+    o.sectors = (row.vertices - 1) / o.rings;
+    Experiment e{"cone 20x" + std::to_string(o.sectors), make_cone(o), base};
+    e.job.source = cone_vertex(o, o.rings, 0);
+    e.job.target = cone_vertex(o, o.rings / 2, o.sectors / 3);
+    e.job.energy.kind = EnergyKind::constant_slope;
+    e.job.energy.slope = parse_slope(row.application);
+    return e;
+  }
+  if (c == "peaks") {
+    const int n = grid_side(row);
+    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0),
+                 base};
+    e.job.source = grid_vertex(n, 3.0, -2.25, -2.25);
+    e.job.target = grid_vertex(n, 3.0, 2.25, 1.5);
+    e.job.energy.kind = EnergyKind::constant_slope;
+    e.job.energy.slope = parse_slope(row.application);
+    return e;
+  }
+  const std::map<std::string, std::string> files = {{"Kitten", "kitten.off"},
+                                                    {"Dragon", "dragon.obj"},
+                                                    {"Beethoven", "beethoven.ply"},
+                                                    {"Bimba", "bimba.obj"}};
+  const auto file = files.find(c);
+  if (file == files.end()) throw std::runtime_error("no experiment for this row");
+  Experiment e{file->second, load_mesh(data + "/meshes/" + file->second), base};
+  int s = 0, t = 0;
+  if (c == "Beethoven") {
+    e.job.energy.density = read_scalar_file(data + "/fields/beethoven.bumps.density");
+    if (!truth_pair(data + "/truth/weighted_steiner.csv", file->second, 1, s, t, e.truth))
+      throw std::runtime_error("no beethoven pair in truth/weighted_steiner.csv");
+    e.truth_name = "k16";
+  } else if (!truth_pair(data + "/truth/geodesic_exact.csv", file->second, 0, s, t, e.truth)) {
+    throw std::runtime_error("no pair in truth/geodesic_exact.csv");
+  } else if (c == "Bimba") {
+    e.truth = 0.0;  // the pair's exact length is for the uniform density
+    Vec3 lo = e.mesh.position(0), hi = lo, centroid = Vec3::Zero();
+    for (int v = 0; v < e.mesh.num_vertices(); ++v) {
+      lo = lo.cwiseMin(e.mesh.position(v));
+      hi = hi.cwiseMax(e.mesh.position(v));
+      centroid += e.mesh.position(v);
+    }
+    centroid /= e.mesh.num_vertices();
+    const double sigma = 0.15 * (hi - lo).norm();
+    e.job.energy.density.resize(e.mesh.num_vertices());
+    for (int v = 0; v < e.mesh.num_vertices(); ++v)
+      e.job.energy.density[v] =
+          1.0 + 4.0 * std::exp(-(e.mesh.position(v) - centroid).squaredNorm() / (2.0 * sigma * sigma));
+  } else {
+    e.truth_name = "exact";
+  }
+  e.job.source = s;
+  e.job.target = t;
+  return e;
+}
+
+std::string quality(const Experiment& e, const SolveResult& r) {
+  char text[96];
+  for (const char* name : {"mean_slope_error", "normalized_energy"}) {
+    for (const Metric& m : r.metrics) {
+      if (m.name != name) continue;
+      std::snprintf(text, sizeof text, "%s %.4f", m.name == "normalized_energy" ? "norm.E" : "slope err",
+                    m.value);
+      return text;
+    }
+  }
+  if (e.truth_name == "exact")
+    std::snprintf(text, sizeof text, "len/exact %.4f", r.length / e.truth);
+  else if (e.truth_name == "k16")
+    std::snprintf(text, sizeof text, "E/k16 %.4f", r.energy / e.truth);
+  else
+    std::snprintf(text, sizeof text, "E/fmm %.4f", r.energy / r.fmm_energy);
+  return text;
+}
+
+bool selected(const std::string& rows, int number, const PaperRow& row) {
+  if (rows.empty()) return true;
+  std::stringstream in(rows);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    if (item.empty()) continue;
+    if (std::all_of(item.begin(), item.end(), ::isdigit)) {
+      if (std::stoi(item) == number) return true;
+    } else if (row.label().find(item) != std::string::npos) {
+      return true;
+    }
+  }
+  return false;
 }
 
 double cpu_seconds() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec + 1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
+         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
 }
 
 struct Throughput {
@@ -173,10 +331,12 @@ void quality_section(const std::string& data, int threads, bool quick) {
   }
   const int pairs_per_mesh = quick ? 1 : 3;
   const int generations = quick ? 10 : 50;
-  std::printf("\nquality vs truth (bump densities; de seeded with the problem, 20 agents, %d generations; "
-              "k16 = Steiner-graph cost, 16 points/edge, slightly above the optimum)\n", generations);
-  std::printf("%-16s %6s %6s %12s %12s %12s %12s %9s %9s\n", "mesh", "s", "t", "k16", "fmm/k16", "rand1bin/k16",
-              "shade/k16", "r1b [s]", "shade [s]");
+  std::printf(
+      "\nquality vs truth (bump densities; de seeded with the problem, 20 agents, %d generations; "
+      "k16 = Steiner-graph cost, 16 points/edge, slightly above the optimum)\n",
+      generations);
+  std::printf("%-16s %6s %6s %12s %12s %12s %12s %9s %9s\n", "mesh", "s", "t", "k16", "fmm/k16",
+              "rand1bin/k16", "shade/k16", "r1b [s]", "shade [s]");
   std::string line;
   std::getline(csv, line);
   std::map<std::string, int> seen;
@@ -198,7 +358,7 @@ void quality_section(const std::string& data, int threads, bool quick) {
       meshes.emplace(name, load_mesh(data + "/meshes/" + name));
       densities[name] = read_scalar_file(data + "/fields/" + density);
     }
-    JobSpec job = job_for(s, t, 20, generations);
+    JobSpec job = test::de_job(s, t, 20, generations, /*seed=*/1, /*threads=*/0);
     job.threads = threads;
     job.energy.density = densities[name];
     job.de.seed_with_problem = true;
@@ -215,84 +375,125 @@ void quality_section(const std::string& data, int threads, bool quick) {
   }
 }
 
+// The paper-sized geodesic problem of the thread-scaling figure: a 125 x 125 flat grid
+// (15,625 vertices) with a bump at the centre, 30 agents.
+void scaling_section(const std::string& strategy) {
+  const int n = 125;
+  const Mesh mesh = grid(n, GridHeight::flat, 3.0);
+  JobSpec job = test::de_job(0, n * n - 1, 30, 8, /*seed=*/1, /*threads=*/0);
+  job.de.strategy = strategy;
+  job.energy.density.resize(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    const Vec3& p = mesh.position(v);
+    job.energy.density[v] = 1.0 + 4.0 * std::exp(-(p.x() * p.x() + p.y() * p.y()) / (2.0 * 1.2 * 1.2));
+  }
+  const Throughput one = throughput(mesh, job, 1, 8);
+  const Throughput two = throughput(mesh, job, 2, 8);
+  std::printf(
+      "\nthread scaling (grid 125x125 flat + bump, 30 agents): 1 thread %.2f generations/s (%.1f "
+      "ms/generation), "
+      "2 threads %.2f generations/s -> %.2fx\n",
+      one.generations_per_second, 1e3 / one.generations_per_second, two.generations_per_second,
+      two.generations_per_second / one.generations_per_second);
+  std::printf(
+      "  CPU cores the process actually got: %.2f with 1 thread, %.2f with 2 threads "
+      "(below 2 means other load on the machine caps the scaling)\n",
+      one.cores_used, two.cores_used);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  int threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  bool quick = false, seeded = false;
-  int repeat = 1;
-  std::string data = DEPATH_SHARED_DATA, strategy = "rand1bin", only;
+  int threads = 2, repeat = 1, max_iterations = 0;
+  bool seeded = false;
+  std::string data = DEPATH_SHARED_DATA, strategy = "rand1bin", rows_arg;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    if (arg == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
-    else if (arg == "--quick") quick = true;
-    else if (arg == "--seeded") seeded = true;
-    else if (arg == "--data" && i + 1 < argc) data = argv[++i];
-    else if (arg == "--strategy" && i + 1 < argc) strategy = argv[++i];
-    else if (arg == "--only" && i + 1 < argc) only = argv[++i];
-    else if (arg == "--repeat" && i + 1 < argc) repeat = std::max(1, std::atoi(argv[++i]));
+    if (arg == "--threads" && i + 1 < argc)
+      threads = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--rows" && i + 1 < argc)
+      rows_arg = argv[++i];
+    else if (arg == "--max-iterations" && i + 1 < argc)
+      max_iterations = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--seeded")
+      seeded = true;
+    else if (arg == "--data" && i + 1 < argc)
+      data = argv[++i];
+    else if (arg == "--strategy" && i + 1 < argc)
+      strategy = argv[++i];
+    else if (arg == "--repeat" && i + 1 < argc)
+      repeat = std::max(1, std::atoi(argv[++i]));
     else {
-      std::fprintf(stderr, "usage: %s [--threads T] [--quick] [--data DIR] [--strategy NAME] [--seeded] [--only TEXT] [--repeat K]\n", argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR] "
+                   "[--strategy NAME] [--seeded]\n",
+                   argv[0]);
       return 2;
     }
   }
-
-  std::printf("DE-Path Table 1, re-run with %d thread(s), strategy %s%s%s, fastest of %d run(s) per row\n", threads,
-              strategy.c_str(), seeded ? ", seeded with the problem's density" : ", paper initialisation",
-              quick ? ", QUICK (iterations capped at 20)" : "", repeat);
-  std::printf("Paper times are ESTIMATES: evaluations x 23 ms x (n / 15.6k) (exact Table 1 figures unavailable).\n\n");
-  std::printf("%-17s %-20s %7s %6s %5s %8s %9s %10s %8s %9s %11s %9s\n", "application", "mesh", "n", "agents", "iter",
-              "evals", "ours [s]", "paper* [s]", "ratio", "ms/eval", "energy/fmm", "stop");
-  std::vector<Row> rows = make_rows(data);
-  double worst_ratio = INFINITY;
-  for (Row& row : rows) {
-    if (!only.empty() && (row.application + " " + row.mesh_name).find(only) == std::string::npos) continue;
-    JobSpec job = row.job;
-    job.threads = threads;
-    job.de.strategy = strategy;
-    job.de.seed_with_problem = seeded;
-    if (quick) job.de.generations = std::min(job.de.generations, 20);
-    SolveResult r;
+  const std::string csv = data + "/paper/table1.csv";
+  if (!std::filesystem::exists(csv)) {
+    std::printf("bench_table1: %s not found (shared data absent): nothing to run\n", csv.c_str());
+    return 0;
+  }
+  const std::vector<PaperRow> paper = read_table1(csv);
+  std::printf("DE-Path Table 1 (%s), re-run with %d thread(s), strategy %s, %s, fastest of %d run(s)%s\n",
+              csv.c_str(), threads, strategy.c_str(),
+              seeded ? "seeded with the problem" : "paper initialisation", repeat,
+              max_iterations > 0 ? (", iterations capped at " + std::to_string(max_iterations)).c_str() : "");
+  std::printf(
+      "ratio = paper's time per evaluation / ours (per vertex too where the vertex counts differ: *);\n"
+      "cores = CPU time / wall time the solve got (below the threads: the machine was loaded);\n"
+      "full-core ratio = the ratio had it got every thread's core (paper / (CPU per evaluation / "
+      "threads))\n\n");
+  std::printf("%2s %-34s %-14s %6s %6s %6s %5s %8s %9s %9s %7s %11s %5s %9s %-17s %s\n", "#", "experiment",
+              "mesh", "n", "paper", "agents", "iter", "evals", "ours [s]", "paper [s]", "ratio",
+              "CPU ms/eval", "cores", "full-core", "quality", "stop");
+  double worst = INFINITY;
+  int number = 0;
+  for (const PaperRow& row : paper) {
+    ++number;
+    if (!selected(rows_arg, number, row)) continue;
     try {
-      r = solve(*row.mesh, job);
-      for (int k = 1; k < repeat; ++k) {
-        const double seconds = solve(*row.mesh, job).seconds;
-        r.seconds = std::min(r.seconds, seconds);
+      Experiment e = make_experiment(row, data);
+      JobSpec job = e.job;
+      job.threads = threads;
+      job.de.strategy = strategy;
+      job.de.seed_with_problem = seeded;
+      if (max_iterations > 0) job.de.generations = std::min(job.de.generations, max_iterations);
+      SolveResult r;
+      double wall = INFINITY, cpu = 0.0;
+      for (int k = 0; k < repeat; ++k) {
+        const double cpu0 = cpu_seconds();
+        const auto t0 = std::chrono::steady_clock::now();
+        SolveResult run = solve(e.mesh, job);
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (seconds < wall) {
+          wall = seconds;
+          cpu = cpu_seconds() - cpu0;
+          r = std::move(run);
+        }
       }
-    } catch (const std::exception& e) {
-      std::printf("%-17s %-20s  skipped: %s\n", row.application.c_str(), row.mesh_name.c_str(), e.what());
-      continue;
+      const int n = e.mesh.num_vertices();
+      const double evaluations = static_cast<double>(r.evaluations);
+      const double paper_evaluations = static_cast<double>(row.agents) * (row.iterations + 1);
+      const double paper_per_eval = row.seconds / paper_evaluations * (static_cast<double>(n) / row.vertices);
+      const double ratio = paper_per_eval / (wall / evaluations);
+      worst = std::min(worst, ratio);
+      const double full_core_ratio = paper_per_eval / (cpu / evaluations / threads);
+      std::printf("%2d %-34s %-14s %6d %6d %6d %5d %8.0f %9.2f %9.1f %6.1fx%s %11.3f %5.2f %8.1fx %-17s %s\n",
+                  number, row.label().c_str(), e.mesh_name.c_str(), n, row.vertices, job.de.population,
+                  r.generations, evaluations, wall, row.seconds * evaluations / paper_evaluations, ratio,
+                  n == row.vertices ? " " : "*", 1e3 * cpu / evaluations, cpu / wall, full_core_ratio,
+                  quality(e, r).c_str(), r.stop_reason.c_str());
+    } catch (const std::exception& ex) {
+      std::printf("%2d %-34s skipped: %s\n", number, row.label().c_str(), ex.what());
     }
-    const int n = row.mesh->num_vertices();
-    const double paper = static_cast<double>(r.evaluations) * kPaperSecondsPerEvaluation * (n / kPaperVertices);
-    const double ratio = paper / r.seconds;
-    worst_ratio = std::min(worst_ratio, ratio);
-    std::printf("%-17s %-20s %7d %6d %5d %8lld %9.2f %10.1f %7.1fx %9.3f %11.4f %9s\n", row.application.c_str(),
-                row.mesh_name.c_str(), n, job.de.population, r.generations, static_cast<long long>(r.evaluations),
-                r.seconds, paper, ratio, 1e3 * r.seconds / static_cast<double>(r.evaluations), r.energy / r.fmm_energy,
-                r.stop_reason.c_str());
     std::fflush(stdout);
   }
-  std::printf("\nslowest row: %.1fx faster than the (estimated) paper time (target >= 20x)\n", worst_ratio);
-
-  if (!only.empty()) return 0;  // a single row: no scaling or quality sections
-  // Thread scaling of generation throughput on the paper-sized geodesic row.
-  for (Row& row : rows) {
-    if (row.mesh_name != "grid 125x125 flat") continue;
-    JobSpec job = row.job;
-    job.de.strategy = strategy;
-    const int generations = quick ? 4 : 8;
-    const Throughput one = throughput(*row.mesh, job, 1, generations);
-    const Throughput two = throughput(*row.mesh, job, 2, generations);
-    std::printf("\nthread scaling (%s, %d agents): 1 thread %.2f generations/s (%.1f ms/generation, %.0f evaluations/s), "
-                "2 threads %.2f generations/s -> %.2fx (target >= 1.8x)\n",
-                row.mesh_name.c_str(), job.de.population, one.generations_per_second,
-                1e3 / one.generations_per_second, one.generations_per_second * job.de.population,
-                two.generations_per_second, two.generations_per_second / one.generations_per_second);
-    std::printf("  CPU cores the process actually got: %.2f with 1 thread, %.2f with 2 threads "
-                "(below 2 means other load on the machine caps the scaling)\n",
-                one.cores_used, two.cores_used);
-  }
-  quality_section(data, threads, quick);
+  if (std::isfinite(worst)) std::printf("\nslowest row: %.1fx the paper's speed (goal >= 20x)\n", worst);
+  if (!rows_arg.empty()) return 0;  // selected rows only: no scaling or quality sections
+  scaling_section(strategy);
+  quality_section(data, threads, false);
   return 0;
 }

@@ -73,6 +73,17 @@ SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks)
     // The method's path first: with equal energies it wins.
     std::vector<SurfacePath> starts{std::move(outcome.path)};
     for (SurfacePath& start : outcome.refine_starts) starts.push_back(std::move(start));
+    if (energy->smoothness() > 0.0) {
+      // Continuation in the penalty weight: the starts settle under the penalty-free
+      // energy first (where the angle term alone shapes them, e.g. onto a contour line),
+      // and that optimum joins the starts of the refinement under the whole energy. The
+      // result is the best whole-energy refinement of any start, so it is never worse than
+      // refining the penalty-free optimum.
+      EnergySpec plain = job.energy;
+      plain.smoothness = 0.0;
+      const std::unique_ptr<Energy> unpenalized = make_energy(mesh, plain);
+      starts.push_back(refine_best_of(*unpenalized, starts, {}, hooks.is_cancelled));
+    }
     result.path = refine_best_of(*energy, starts, {}, hooks.is_cancelled);
     result.refined = true;
   } else {

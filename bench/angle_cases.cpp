@@ -7,7 +7,7 @@
 //
 // Usage: bench_angle_cases [--family contour|spiral|both] [--count N] [--first SEED]
 //                          [--lambdas 0,0.01,0.1] [--population P] [--generations G]
-//                          [--threads T] [--strategy NAME] [--quiet]
+//                          [--threads T] [--strategy NAME] [--no-refine] [--quiet]
 #include "depath/energy/energy.hpp"
 #include "depath/solve/solve.hpp"
 #include "../tests/angle_job.hpp"
@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   std::string family = "both", strategy = "shade";
   int count = 20, population = test::kAnglePopulation, generations = test::kAngleGenerations, threads = 2;
   uint64_t first = 1;
-  bool quiet = false;
+  bool quiet = false, refine = true;
   std::vector<double> lambdas = {0.0, 0.1};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--strategy") strategy = next();
     else if (a == "--quiet") quiet = true;
+    else if (a == "--no-refine") refine = false;
     else if (a == "--lambdas") {
       lambdas.clear();
       std::stringstream ss(next());
@@ -86,6 +87,7 @@ int main(int argc, char** argv) {
       for (size_t l = 0; l < lambdas.size(); ++l) {
         JobSpec job = test::angle_job(c, lambdas[l], population, generations, threads);
         job.de.strategy = strategy;
+        job.refine = refine;
         const SolveResult r = solve(c.mesh, job);
         const double figure = test::result_metric(r, spiral ? "mean_slope_error" : "normalized_energy");
         const double turning = test::total_turning(c.mesh, job.energy, r.path);

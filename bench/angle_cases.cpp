@@ -7,13 +7,16 @@
 //
 // Usage: bench_angle_cases [--family contour|spiral|both] [--count N] [--first SEED]
 //                          [--lambdas 0,0.01,0.1] [--population P] [--generations G]
-//                          [--threads T] [--strategy NAME] [--no-refine] [--quiet]
+//                          [--threads T] [--strategy NAME] [--no-refine] [--diagnose] [--quiet]
+// --diagnose: per instance, the turning of the fmm path, of DE's best decoded path and of the
+// refined path (penalty-free problem), in the surface and in 3D, and the points per path.
 #include "depath/energy/energy.hpp"
 #include "depath/solve/solve.hpp"
 #include "../tests/angle_job.hpp"
 #include "../tests/random_cases.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -29,6 +32,30 @@ struct Figures {
   std::vector<double> figure, turning, seconds;
 };
 
+// Sum of 3D angles between consecutive segments (what the penalty measured before issue 12).
+double turning_3d(const Mesh& mesh, const SurfacePath& path) {
+  const std::vector<Vec3> p = path_positions(mesh, path);
+  double sum = 0.0;
+  for (size_t i = 1; i + 1 < p.size(); ++i) {
+    const Vec3 a = p[i] - p[i - 1], b = p[i + 1] - p[i];
+    if (a.norm() > 0 && b.norm() > 0) sum += std::atan2(a.cross(b).norm(), a.dot(b));
+  }
+  return sum;
+}
+
+void diagnose_case(const test::AngleCase& c, int population, int generations, int threads) {
+  JobSpec job = test::angle_job(c, 0.0, population, generations, threads);
+  const char* names[3] = {"fmm (decoded)", "de best decoded", "de --refine"};
+  for (int k = 0; k < 3; ++k) {
+    job.method = k == 0 ? Method::fmm : Method::de;
+    job.refine = k == 2;
+    const SolveResult r = solve(c.mesh, job);
+    std::printf("    %-16s turning in surface %7.3f  3D %7.3f  points %4zu  normalized %.4f\n", names[k],
+                test::total_turning(c.mesh, job.energy, r.path), turning_3d(c.mesh, r.path), r.path.points.size(),
+                test::result_metric(r, "normalized_energy"));
+  }
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   const size_t n = v.size();
@@ -41,7 +68,7 @@ int main(int argc, char** argv) {
   std::string family = "both", strategy = "shade";
   int count = 20, population = test::kAnglePopulation, generations = test::kAngleGenerations, threads = 2;
   uint64_t first = 1;
-  bool quiet = false, refine = true;
+  bool quiet = false, refine = true, diagnose = false;
   std::vector<double> lambdas = {0.0, 0.1};
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -61,6 +88,7 @@ int main(int argc, char** argv) {
     else if (a == "--strategy") strategy = next();
     else if (a == "--quiet") quiet = true;
     else if (a == "--no-refine") refine = false;
+    else if (a == "--diagnose") diagnose = true;
     else if (a == "--lambdas") {
       lambdas.clear();
       std::stringstream ss(next());
@@ -84,6 +112,10 @@ int main(int argc, char** argv) {
     for (uint64_t seed = first; seed < first + count; ++seed) {
       const test::AngleCase c = test::random_angle_case(families[f], seed);
       if (!quiet) std::printf("%-7s seed %3d  %s\n", spiral ? "spiral" : "contour", static_cast<int>(seed), c.description.c_str());
+      if (diagnose) {
+        diagnose_case(c, population, generations, threads);
+        continue;
+      }
       for (size_t l = 0; l < lambdas.size(); ++l) {
         JobSpec job = test::angle_job(c, lambdas[l], population, generations, threads);
         job.de.strategy = strategy;
@@ -101,6 +133,7 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
     }
   }
+  if (diagnose) return 0;
   std::printf("\n%-8s %-7s %9s %9s %14s %14s %10s\n", "family", "lambda", "median", "worst", "turning med", "turning worst",
               "s/solve");
   for (size_t f = 0; f < families.size(); ++f) {

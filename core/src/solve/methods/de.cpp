@@ -184,13 +184,18 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   // the seed point when it beats the problem's own density.
   SurfacePath guide_path;
   double guide_search_energy = std::numeric_limits<double>::infinity();
-  const std::vector<double> guide = guide_density(ctx.mesh, ctx.energy, job.source, job.target);
-  if (!guide.empty()) {
+  std::vector<double> guide;
+  {
     PathDecoder decoder(ctx.stencils);
-    if (decoder.decode(guide, job.source, job.target, guide_path)) {
-      guide_search_energy = search_energy(guide_path);
-    } else {
-      guide_path.clear();
+    SurfacePath candidate;
+    for (std::vector<double>& channel : guide_densities(ctx.mesh, ctx.energy, job.source, job.target)) {
+      if (!decoder.decode(channel, job.source, job.target, candidate)) continue;
+      const double e = search_energy(candidate);
+      if (e < guide_search_energy) {
+        guide_search_energy = e;
+        guide_path = candidate;
+        guide = std::move(channel);
+      }
     }
   }
   const bool seed_with_guide = job.de.seed_with_problem && guide_search_energy < fmm_search_energy;

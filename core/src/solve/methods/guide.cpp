@@ -15,6 +15,8 @@ namespace {
 // 20 times shorter.
 constexpr double kChannelDensity = 0.05;
 constexpr double kChannelWidth = 1.5;  // mean edge lengths either side of the curve
+constexpr double kNear = 3.0;          // close approach: within this many mean edge lengths
+constexpr size_t kCutsPerTrace = 3;
 
 struct Trace {
   std::vector<Vec3> points;
@@ -120,7 +122,7 @@ Trace trace_curve(const Mesh& mesh, const Energy& energy, int source, const Vec3
 
 }  // namespace
 
-std::vector<double> guide_density(const Mesh& mesh, const Energy& energy, int source, int target) {
+std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target) {
   // Initial directions: every preferred line of every face at the source, both senses.
   std::vector<Vec3> initial;
   const Vec3 s = mesh.position(source);
@@ -136,34 +138,58 @@ std::vector<double> guide_density(const Mesh& mesh, const Energy& energy, int so
       }
     }
   }
-  if (initial.empty()) return {};
   const Vec3 t = mesh.position(target);
-  Trace best;
+  const double edge = mesh.mean_edge_length();
+  // Candidates: each trace cut at its close approaches to the target (local minima of the
+  // distance within kNear edges; a curve may pass near the target on another branch first,
+  // e.g. a contour near a saddle), at most kCutsPerTrace per trace, nearest first.
+  struct Cut {
+    int trace, point;
+    double distance;
+  };
+  std::vector<Trace> traces;
+  std::vector<Cut> cuts;
   for (const Vec3& d : initial) {
     Trace trace = trace_curve(mesh, energy, source, d, t);
-    if (trace.points.size() >= 2 && trace.closest_distance < best.closest_distance) best = std::move(trace);
+    if (trace.points.size() < 2) continue;
+    std::vector<Cut> mine;
+    for (int i = 1; i < static_cast<int>(trace.points.size()); ++i) {
+      const double di = (trace.points[i] - t).norm();
+      if (di > kNear * edge) continue;
+      const bool left = (trace.points[i - 1] - t).norm() >= di;
+      const bool right = i + 1 == static_cast<int>(trace.points.size()) || (trace.points[i + 1] - t).norm() >= di;
+      if (left && right) mine.push_back({static_cast<int>(traces.size()), i, di});
+    }
+    if (mine.empty()) mine.push_back({static_cast<int>(traces.size()), trace.closest, trace.closest_distance});
+    std::sort(mine.begin(), mine.end(), [](const Cut& a, const Cut& b) { return a.distance < b.distance; });
+    if (mine.size() > kCutsPerTrace) mine.resize(kCutsPerTrace);
+    cuts.insert(cuts.end(), mine.begin(), mine.end());
+    traces.push_back(std::move(trace));
   }
-  if (best.points.size() < 2 || best.closest == 0) return {};
-  best.points.resize(best.closest + 1);
-  const double width = kChannelWidth * mesh.mean_edge_length();
-  std::vector<double> density(mesh.num_vertices(), 1.0);
-  for (int v = 0; v < mesh.num_vertices(); ++v) {
-    const Vec3& p = mesh.position(v);
-    for (size_t i = 0; i < best.points.size(); ++i) {
-      // Distance to the curve's segment (i - 1, i) (or its first point).
-      const Vec3 b = best.points[i];
-      const Vec3 a = i == 0 ? b : best.points[i - 1];
-      const Vec3 ab = b - a;
-      const double l2 = ab.squaredNorm();
-      const double u = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-      if ((a + u * ab - p).norm() <= width) {
-        density[v] = kChannelDensity;
-        break;
+  std::vector<std::vector<double>> channels;
+  const double width = kChannelWidth * edge;
+  for (const Cut& cut : cuts) {
+    if (cut.point < 1) continue;
+    const std::vector<Vec3>& points = traces[cut.trace].points;
+    std::vector<double> density(mesh.num_vertices(), 1.0);
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      const Vec3& p = mesh.position(v);
+      for (int i = 1; i <= cut.point; ++i) {
+        // Distance to the curve's segment (i - 1, i).
+        const Vec3& a = points[i - 1];
+        const Vec3 ab = points[i] - a;
+        const double l2 = ab.squaredNorm();
+        const double u = l2 > 0.0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+        if ((a + u * ab - p).squaredNorm() <= width * width) {
+          density[v] = kChannelDensity;
+          break;
+        }
       }
     }
+    density[target] = kChannelDensity;
+    channels.push_back(std::move(density));
   }
-  density[target] = kChannelDensity;
-  return density;
+  return channels;
 }
 
 }  // namespace depath

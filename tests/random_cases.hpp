@@ -97,7 +97,9 @@ inline std::optional<AngleCase> try_contour_case(CaseRandom& rng) {
   for (auto& b : bumps) {
     b.cu = rng.uniform(-0.7, 0.7) * half;
     b.cv = rng.uniform(-0.7, 0.7) * half;
-    b.sigma = rng.uniform(0.25, 0.6) * half;
+    // At least 6 grid spacings wide, so that the mesh resolves the contours' curvature (the
+    // per-vertex field then stays within a fraction of 0.02 of the contour direction).
+    b.sigma = std::max(rng.uniform(0.25, 0.6) * half, 6 * spacing);
     b.amplitude = (rng.uniform() < 0.5 ? -1.0 : 1.0) * rng.uniform(0.3, 1.0) * half;
   }
   GridOptions o;

@@ -104,9 +104,12 @@ void fig4() {
   for (const double k : {0.2, 0.1}) {
     test::SpiralParams p;
     p.k = k;
-    p.turns = k == 0.2 ? 0.5 : 0.25;
+    p.turns = 0.5;
     const auto c = test::spiral_case(p);
-    if (!c) continue;
+    if (!c) {
+      row("Fig. 4", "cone, k " + fmt("%.1f", k) + ": no spiral case for these parameters", "-", "-", 0.0);
+      continue;
+    }
     for (const double lambda : {0.0, 0.1}) {
       const SolveResult r = solve(c->mesh, test::angle_job(*c, lambda, 20, 100, g_threads));
       row("Fig. 4", "cone, k " + fmt("%.1f", k) + ", lambda " + fmt("%.1f", lambda) + ", " + c->description.substr(7),

@@ -45,17 +45,19 @@ struct AngleCase {
 /// splitmix64: a small, portable, seeded generator.
 class CaseRandom {
  public:
-  explicit CaseRandom(uint64_t seed) : state_(seed * 0x9E3779B97F4A7C15ull + 0x632BE59BD9B4E019ull) {}
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
+  // The seed is hashed first: seeded linearly, the streams of nearby seeds are shifts of
+  // one another, and two seeds whose rejected draws differ by that shift give one case.
+  explicit CaseRandom(uint64_t seed) : state_(mix(seed + 0x632BE59BD9B4E019ull)) {}
+  uint64_t next() { return mix(state_ += 0x9E3779B97F4A7C15ull); }
   double uniform(double lo = 0.0, double hi = 1.0) { return lo + (hi - lo) * ((next() >> 11) * 0x1.0p-53); }
   int below(int n) { return static_cast<int>(next() % static_cast<uint64_t>(n)); }
 
  private:
+  static uint64_t mix(uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+  }
   uint64_t state_;
 };
 

@@ -182,19 +182,27 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   // Direction energies: the guide channel along the traced field / constant-slope curve
   // (guide.hpp). Its decoded path always joins the refinement starts; with seeding it is
   // the seed point when it beats the problem's own density.
-  SurfacePath guide_path;
+  // The closest approach's channel seeds; the candidate whose decoded path costs least
+  // joins the refinement starts too.
+  SurfacePath guide_path, cheapest_guide_path;
   double guide_search_energy = std::numeric_limits<double>::infinity();
   std::vector<double> guide;
   {
     PathDecoder decoder(ctx.stencils);
     SurfacePath candidate;
+    double cheapest = std::numeric_limits<double>::infinity();
+    bool first = true;
     for (std::vector<double>& channel : guide_densities(ctx.mesh, ctx.energy, job.source, job.target)) {
       if (!decoder.decode(channel, job.source, job.target, candidate)) continue;
       const double e = search_energy(candidate);
-      if (e < guide_search_energy) {
+      if (first) {
+        first = false;
         guide_search_energy = e;
         guide_path = candidate;
         guide = std::move(channel);
+      } else if (e < cheapest && e < guide_search_energy) {
+        cheapest = e;
+        cheapest_guide_path = candidate;
       }
     }
   }
@@ -274,6 +282,7 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   outcome.energy = rank_without_penalty ? ctx.energy.evaluate(outcome.path) : outcome_search_energy;
   if (job.refine) {
     outcome.refine_starts = refine_starts(ctx, fmm_search_energy, agent_paths, agent_energies, outcome_search_energy);
+    if (!cheapest_guide_path.empty()) outcome.refine_starts.push_back(std::move(cheapest_guide_path));
     if (!guide_path.empty()) outcome.refine_starts.push_back(std::move(guide_path));
   }
   return outcome;

@@ -166,6 +166,8 @@ std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy&
     cuts.insert(cuts.end(), mine.begin(), mine.end());
     traces.push_back(std::move(trace));
   }
+  // The closest approach of all first (the caller's seed).
+  std::stable_sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) { return a.distance < b.distance; });
   std::vector<std::vector<double>> channels;
   const double width = kChannelWidth * edge;
   for (const Cut& cut : cuts) {

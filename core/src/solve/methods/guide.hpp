@@ -17,8 +17,8 @@ namespace depath {
 
 /// Candidate guide channels, as per-vertex densities: kChannelDensity within 1.5 mean edge
 /// lengths of a traced curve up to one of its close approaches to the target (up to 3 per
-/// curve: a curve may pass near the target on another branch first), 1 elsewhere. The
-/// caller decodes each and keeps the best. Empty if the energy prefers no direction at the
+/// curve: a curve may pass near the target on another branch first), 1 elsewhere, the
+/// closest approach first. Empty if the energy prefers no direction at the
 /// source (geodesic energies). Deterministic; cost O(V x curve points) per candidate.
 std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target);
 

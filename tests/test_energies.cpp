@@ -375,6 +375,69 @@ TEST(ConstantSlopeEnergy, ConeFacesFollowTheAnalyticSpiral) {
   EXPECT_LT(worst, 2e-4);  // (pi / 256)^2 = 1.5e-4
 }
 
+// ---------------------------------------------------------------- smoothness: turning within the surface
+
+// Two triangles folded about the hinge A-B (the y axis): C lies in the plane z = 0, D is
+// lifted by h. The path C -> P -> D with P the hinge's midpoint is straight once D's face is
+// unfolded into C's plane, so it turns by 0 within the surface, though its 3D segments meet
+// at atan(h). Elsewhere on the hinge the turn is the unfolded angle.
+TEST(Smoothness, TurningAtAnEdgeIsMeasuredInTheUnfolding) {
+  const double h = 0.8;
+  const Mesh mesh({Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0.5, 0), Vec3(1, 0.5, h)}, {{{0, 1, 2}}, {{1, 0, 3}}});
+  const auto energy = vector_field(mesh, std::vector<Vec3>(4, Vec3(1, 0, 0)), 1.0);
+  auto path_through = [&](double t) {
+    SurfacePath path;
+    path.points = {SurfacePoint::at_vertex(2), SurfacePoint::on_edge(0, 1, t), SurfacePoint::at_vertex(3)};
+    path.segment_faces = {0, 1};
+    return path;
+  };
+  EXPECT_NEAR(energy->turning_angle(path_through(0.5), 1), 0.0, 1e-14);
+  const Vec3 p = path_through(0.5).points[1].position(mesh);
+  const Vec3 a = p - mesh.position(2), b = mesh.position(3) - p;
+  EXPECT_NEAR(std::atan2(a.cross(b).norm(), a.dot(b)), std::atan(h), 1e-14);  // what a 3D angle would charge
+  // P at y = 0.25: unfolded, D sits at (sqrt(1 + h^2), 0.5); the turn is the difference of
+  // the two segments' directions in that plane.
+  const double d = std::hypot(1.0, h);
+  const double expected = std::atan2(0.25, d) + std::atan2(0.25, 1.0);
+  EXPECT_NEAR(energy->turning_angle(path_through(0.25), 1), expected, 1e-12);
+  // Touching the hinge and going back into the same face: the plain angle in that face.
+  SurfacePath back;
+  back.points = {SurfacePoint::at_vertex(2), SurfacePoint::on_edge(0, 1, 0.5), SurfacePoint::on_edge(0, 2, 0.5)};
+  back.segment_faces = {0, 0};
+  EXPECT_NEAR(energy->turning_angle(back, 1), kPi - std::atan2(0.25, 0.5), 1e-12);
+}
+
+// A square pyramid: 60-degree corners at the apex, 240 degrees around it. Through the apex
+// between opposite base corners the path has 120 degrees on either side: it turns by
+// 180 - 120 = 60 degrees within the surface (3D: 90). Along a face boundary on a flat grid the
+// vertex rule gives the plain angle.
+TEST(Smoothness, TurningAtAVertexUsesTheSurfaceAnglesOnBothSides) {
+  const Mesh pyramid({Vec3(0, 0, 1), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), Vec3(0, -1, 0)},
+                     {{{0, 1, 2}}, {{0, 2, 3}}, {{0, 3, 4}}, {{0, 4, 1}}});
+  const auto energy = vector_field(pyramid, std::vector<Vec3>(5, Vec3(1, 0, 0)), 1.0);
+  SurfacePath path;
+  path.points = {SurfacePoint::at_vertex(1), SurfacePoint::at_vertex(0), SurfacePoint::at_vertex(3)};
+  path.segment_faces = {0, 1};
+  EXPECT_NEAR(energy->turning_angle(path, 1), kPi / 3, 1e-12);
+  path.segment_faces = {3, 2};  // the same path, faces on the other side
+  EXPECT_NEAR(energy->turning_angle(path, 1), kPi / 3, 1e-12);
+  // To the neighbouring corner: 60 degrees on one side, so it turns by 120.
+  path.points[2] = SurfacePoint::at_vertex(2);
+  path.segment_faces = {0, 0};
+  EXPECT_NEAR(energy->turning_angle(path, 1), 2 * kPi / 3, 1e-12);
+
+  const Mesh grid = flat_grid();  // 5 x 5, vertex (i, j) = 5 j + i
+  const auto flat = vector_field(grid, std::vector<Vec3>(grid.num_vertices(), Vec3(1, 0, 0)), 1.0);
+  SurfacePath corner;  // (0,1) -> (1,1) -> (1,2): a right angle at the interior vertex 6
+  corner.points = {SurfacePoint::at_vertex(5), SurfacePoint::at_vertex(6), SurfacePoint::at_vertex(11)};
+  corner.segment_faces = {grid.face_with_edge(5, 6), grid.face_with_edge(6, 11)};
+  EXPECT_NEAR(flat->turning_angle(corner, 1), kPi / 2, 1e-12);
+  SurfacePath straight;  // (0,1) -> (1,1) -> (2,1)
+  straight.points = {SurfacePoint::at_vertex(5), SurfacePoint::at_vertex(6), SurfacePoint::at_vertex(7)};
+  straight.segment_faces = {grid.face_with_edge(5, 6), grid.face_with_edge(6, 7)};
+  EXPECT_NEAR(flat->turning_angle(straight, 1), 0.0, 1e-12);
+}
+
 // ---------------------------------------------------------------- factory checks
 
 void expect_invalid(const Mesh& mesh, const EnergySpec& spec, const std::string& fragment) {

@@ -53,6 +53,15 @@ double ConstantSlopeEnergy::segment_energy(const SurfacePoint& a, const SurfaceP
   return length * std::min(acute_angle(dx, dy, d.u1x, d.u1y), acute_angle(dx, dy, d.u2x, d.u2y));
 }
 
+int ConstantSlopeEnergy::preferred_lines(int face, const Vec3&, Vec3 lines[2]) const {
+  const FaceData& d = faces_[face];
+  if (!d.has_target) return 0;
+  lines[0] = d.u1x * d.e1 + d.u1y * d.e2;
+  if (d.u1x == d.u2x && d.u1y == d.u2y) return 1;
+  lines[1] = d.u2x * d.e1 + d.u2y * d.e2;
+  return 2;
+}
+
 double ConstantSlopeEnergy::slope_energy(const SurfacePath& path) const { return segment_sum(path); }
 
 double ConstantSlopeEnergy::mean_slope_error(const SurfacePath& path) const {

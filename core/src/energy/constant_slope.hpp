@@ -34,6 +34,9 @@ class ConstantSlopeEnergy final : public Energy {
   std::string_view name() const override { return "constant_slope"; }
   double segment_energy(const SurfacePoint& a, const SurfacePoint& b, int face) const override;
   std::vector<Metric> metrics(const SurfacePath& path) const override;
+  /// The face's target lines (2, or 1 where the face is too flat for slope k; none on
+  /// level or degenerate faces).
+  int preferred_lines(int face, const Vec3& point, Vec3 lines[2]) const override;
 
   /// Sum of segment energies (no smoothness penalty).
   double slope_energy(const SurfacePath& path) const;

@@ -110,6 +110,25 @@ double VectorFieldEnergy::segment_energy(const SurfacePoint& a, const SurfacePoi
   return length * mean_angle;
 }
 
+int VectorFieldEnergy::preferred_lines(int face, const Vec3& point, Vec3 lines[2]) const {
+  const FaceData& d = faces_[face];
+  if (!d.valid) return 0;
+  const auto& t = mesh_.face(face);
+  const Vec3& p0 = mesh_.position(t[0]);
+  const Vec3 q = point - p0, a = mesh_.position(t[1]) - p0, b = mesh_.position(t[2]) - p0;
+  const double ax = a.dot(d.e1), ay = a.dot(d.e2), bx = b.dot(d.e1), by = b.dot(d.e2);
+  const double qx = q.dot(d.e1), qy = q.dot(d.e2);
+  const double det = ax * by - ay * bx;
+  const double u = (qx * by - qy * bx) / det, v = (ax * qy - ay * qx) / det;
+  const double w[3] = {1.0 - u - v, u, v};
+  const auto& c = d.corner_field;
+  const double wx = w[0] * c[0] + w[1] * c[2] + w[2] * c[4], wy = w[0] * c[1] + w[1] * c[3] + w[2] * c[5];
+  const double norm2 = wx * wx + wy * wy;
+  if (!(norm2 > zero_norm2_)) return 0;
+  lines[0] = (wx * d.e1 + wy * d.e2) / std::sqrt(norm2);
+  return 1;
+}
+
 double VectorFieldEnergy::field_energy(const SurfacePath& path) const { return segment_sum(path); }
 
 std::vector<Metric> VectorFieldEnergy::metrics(const SurfacePath& path) const {

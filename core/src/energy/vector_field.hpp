@@ -36,6 +36,8 @@ class VectorFieldEnergy final : public Energy {
   std::string_view name() const override { return "vector_field"; }
   double segment_energy(const SurfacePoint& a, const SurfacePoint& b, int face) const override;
   std::vector<Metric> metrics(const SurfacePath& path) const override;
+  /// The field's line at the point (1), or none where it vanishes or the face is degenerate.
+  int preferred_lines(int face, const Vec3& point, Vec3 lines[2]) const override;
 
   /// Sum of segment energies (no smoothness penalty).
   double field_energy(const SurfacePath& path) const;

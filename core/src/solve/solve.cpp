@@ -73,6 +73,24 @@ SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks)
     // The method's path first: with equal energies it wins.
     std::vector<SurfacePath> starts{std::move(outcome.path)};
     for (SurfacePath& start : outcome.refine_starts) starts.push_back(std::move(start));
+    if (energy->smoothness() > 0.0) {
+      // Continuation in the penalty weight: every start is refined under the penalty-free
+      // energy first, exactly as a job without the penalty would be (where the angle term
+      // alone shapes it, e.g. onto a contour line); that optimum, the method's own path and
+      // the method's last start (de: the guide curve's path, smooth where the penalty-free
+      // optimum may zig-zag, e.g. between the two constant-slope lines, which that energy
+      // does not tell apart) are then refined under the whole energy. So the result's whole
+      // energy is never above that of the penalty-free job's result (de ranks by segment
+      // energies under refinement, so both jobs search alike). The other starts are not
+      // refined again: with the penalty a refinement costs several times more (a turning
+      // term per point).
+      EnergySpec plain = job.energy;
+      plain.smoothness = 0.0;
+      const std::unique_ptr<Energy> unpenalized = make_energy(mesh, plain);
+      SurfacePath settled = refine_best_of(*unpenalized, starts, {}, hooks.is_cancelled);
+      if (starts.size() > 2) starts.erase(starts.begin() + 1, starts.end() - 1);
+      starts.push_back(std::move(settled));
+    }
     result.path = refine_best_of(*energy, starts, {}, hooks.is_cancelled);
     result.refined = true;
   } else {

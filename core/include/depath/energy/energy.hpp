@@ -27,7 +27,8 @@ struct Metric {
 };
 
 /// Energy of a surface path: a sum of per-segment terms plus an optional smoothness
-/// penalty (lambda * sum of turning angles between consecutive segments, radians).
+/// penalty (lambda * sum of turning angles between consecutive segments, radians,
+/// measured within the surface: see turning_angle).
 ///
 /// Implementations are immutable after construction and safe to call from many threads.
 class Energy {
@@ -44,6 +45,13 @@ class Energy {
   /// Extra figures for a final path (normalized energy, slope error, ...). Default: none.
   virtual std::vector<Metric> metrics(const SurfacePath& path) const { return {}; }
 
+  /// The directions the integrand prefers at `point` (a point of face f): up to two unit
+  /// 3D vectors in the face's plane, each standing for a line (both senses), written to
+  /// `lines`; returns how many (0 where no direction is preferred). A path along them costs
+  /// nothing. Used to trace guide curves (field lines, constant-slope lines) that seed the
+  /// search. Default: none (geodesic).
+  virtual int preferred_lines(int face, const Vec3& point, Vec3 lines[2]) const { return 0; }
+
   /// Per-vertex density that the `fmm` baseline decodes (the problem's own density).
   /// Default: uniform 1 (plain geodesic distance).
   virtual std::vector<double> baseline_density() const;
@@ -57,7 +65,20 @@ class Energy {
   /// The smoothness penalty weight lambda (>= 0).
   double smoothness() const { return smoothness_; }
 
-  /// Turning angle (radians, in [0, pi]) at point `i` of the path (0 at the end points).
+  /// Turning angle (radians, in [0, pi]) at point `i` of the path (0 at the end points),
+  /// measured within the surface (geodesic turning), so that a path that runs straight on
+  /// the surface (a geodesic, or a contour line's own bending in 3D) costs nothing for
+  /// the bending of the surface under it:
+  ///  - at an edge point, the angle between the incoming segment and the outgoing one
+  ///    after unfolding the outgoing segment's face about the edge into the incoming
+  ///    segment's plane (exact: a path straight in the unfolding turns by 0);
+  ///  - at a vertex, pi - min(theta_1, theta_2), theta_1 and theta_2 the surface angles at
+  ///    the vertex on the two sides of the path (sums of corner angles); 0 where both are
+  ///    at least pi, as for every locally shortest path; at a boundary vertex |pi - theta|
+  ///    for the one side there is;
+  ///  - where a point's segment faces do not hold it (not a valid surface path) or are
+  ///    degenerate, the 3D angle between the segments.
+  /// On a flat mesh all three are the plain angle between consecutive segments.
   double turning_angle(const SurfacePath& path, int i) const;
 
   const Mesh& mesh() const { return mesh_; }

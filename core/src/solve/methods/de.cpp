@@ -22,6 +22,7 @@
 // 1051 -> 2350 the best agent refines to +0.31% above the exact geodesic, other agents
 // to the exact one).
 #include "solve/methods/methods.hpp"
+#include "solve/methods/guide.hpp"
 
 #include "depath/de/differential_evolution.hpp"
 #include "depath/util/error.hpp"
@@ -89,10 +90,10 @@ void smooth_perturbation(const Mesh& mesh, std::span<const Vec3> path, DeRandom&
 // The fmm path and the best kMaxRefineStarts agents' paths (moved out of `paths`), one
 // per distinct finite energy and none equal in energy to the outcome's own path (equal
 // energies: the same decoded path, as a rule).
-std::vector<SurfacePath> refine_starts(const MethodContext& ctx, std::vector<SurfacePath>& paths,
+std::vector<SurfacePath> refine_starts(const MethodContext& ctx, double fmm_energy, std::vector<SurfacePath>& paths,
                                        const std::vector<double>& energies, double outcome_energy) {
   std::vector<SurfacePath> starts;
-  if (ctx.fmm_energy != outcome_energy) starts.push_back(ctx.fmm_path);
+  if (fmm_energy != outcome_energy) starts.push_back(ctx.fmm_path);
   std::vector<int> order(paths.size());
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return energies[a] < energies[b]; });
@@ -151,10 +152,6 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   // weak point on DE-Path: a population of 20 often settles on a wrong decoded path
   // within 100 generations); rand1bin stays the paper's DE.
   settings.restart = settings.strategy != "rand1bin";
-  if (job.de.seed_with_problem) {
-    settings.seed_point = ctx.energy.baseline_density();
-    for (double& rho : settings.seed_point) rho = std::log(rho);
-  }
 
   // Decoders are made on first use by their slot (a slot is never used by two threads at
   // once); a server pool may have more slots than this job ever touches.
@@ -170,6 +167,51 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   problem.perturb = [&](DeRandom& rng, double amplitude, std::span<double> x) {
     smooth_perturbation(ctx.mesh, best_points, rng, amplitude, x);
   };
+  // With refinement and a smoothness penalty, the search ranks decoded paths by their
+  // segment energies alone: a back-traced path bends at every edge it crosses (the fast
+  // marching gradient is constant per face), so its turning measures the decoding more
+  // than the path's shape, and charging it steers the search to paths along mesh lines.
+  // The refinement then minimises the whole energy, penalty included, from the starts the
+  // search hands on (solve.cpp). Without refinement the decoded path is the result, so the
+  // search ranks by the whole energy.
+  const bool rank_without_penalty = job.refine && ctx.energy.smoothness() > 0.0;
+  auto search_energy = [&](const SurfacePath& path) {
+    return rank_without_penalty ? ctx.energy.segment_sum(path) : ctx.energy.evaluate(path);
+  };
+  const double fmm_search_energy = rank_without_penalty ? search_energy(ctx.fmm_path) : ctx.fmm_energy;
+  // Direction energies: the guide channel along the traced field / constant-slope curve
+  // (guide.hpp). Its decoded path always joins the refinement starts; with seeding it is
+  // the seed point when it beats the problem's own density.
+  // The closest approach's channel seeds; the candidate whose decoded path costs least
+  // joins the refinement starts too.
+  SurfacePath guide_path, cheapest_guide_path;
+  double guide_search_energy = std::numeric_limits<double>::infinity();
+  std::vector<double> guide;
+  {
+    PathDecoder decoder(ctx.stencils);
+    SurfacePath candidate;
+    double cheapest = std::numeric_limits<double>::infinity();
+    bool first = true;
+    for (std::vector<double>& channel : guide_densities(ctx.mesh, ctx.energy, job.source, job.target)) {
+      if (!decoder.decode(channel, job.source, job.target, candidate)) continue;
+      const double e = search_energy(candidate);
+      if (first) {
+        first = false;
+        guide_search_energy = e;
+        guide_path = candidate;
+        guide = std::move(channel);
+      } else if (e < cheapest && e < guide_search_energy) {
+        cheapest = e;
+        cheapest_guide_path = candidate;
+      }
+    }
+  }
+  const bool seed_with_guide = job.de.seed_with_problem && guide_search_energy < fmm_search_energy;
+  if (job.de.seed_with_problem) {
+    settings.seed_point = seed_with_guide ? guide : ctx.energy.baseline_density();
+    for (double& rho : settings.seed_point) rho = std::log(rho);
+  }
+  if (seed_with_guide) best_points = path_positions(ctx.mesh, guide_path);
   problem.evaluate = [&](int slot, int index, std::span<const double> log_density) {
     auto& decoder = decoders[slot];
     if (!decoder) decoder = std::make_unique<PathDecoder>(ctx.stencils);
@@ -177,7 +219,7 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
     if (!decoder->decode_log(log_density, job.source, job.target, path)) {
       return energies[index] = std::numeric_limits<double>::infinity();
     }
-    return energies[index] = ctx.energy.evaluate(path);
+    return energies[index] = search_energy(path);
   };
 
   SurfacePath best_path;
@@ -230,14 +272,19 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   const bool found = std::isfinite(result.best_energy) && !best_path.empty();
   // Fall back to the baseline when seeding promised "never worse", or when no agent
   // decoded at all (cancelled before the first evaluation, or no finite energy).
-  if (!found || (job.de.seed_with_problem && result.best_energy > ctx.fmm_energy)) {
+  double outcome_search_energy = result.best_energy;
+  if (!found || (job.de.seed_with_problem && result.best_energy > fmm_search_energy)) {
     outcome.path = ctx.fmm_path;
-    outcome.energy = ctx.fmm_energy;
+    outcome_search_energy = fmm_search_energy;
   } else {
     outcome.path = std::move(best_path);
-    outcome.energy = result.best_energy;
   }
-  if (job.refine) outcome.refine_starts = refine_starts(ctx, agent_paths, agent_energies, outcome.energy);
+  outcome.energy = rank_without_penalty ? ctx.energy.evaluate(outcome.path) : outcome_search_energy;
+  if (job.refine) {
+    outcome.refine_starts = refine_starts(ctx, fmm_search_energy, agent_paths, agent_energies, outcome_search_energy);
+    if (!cheapest_guide_path.empty()) outcome.refine_starts.push_back(std::move(cheapest_guide_path));
+    if (!guide_path.empty()) outcome.refine_starts.push_back(std::move(guide_path));
+  }
   return outcome;
 }
 

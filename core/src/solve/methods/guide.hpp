@@ -1,0 +1,25 @@
+// SPDX-License-Identifier: MIT
+// Internal to the `de` method: a guide for direction energies (vector_field,
+// constant_slope). From the source, the curves that follow the energy's preferred lines
+// (Energy::preferred_lines: field lines, constant-slope lines) are traced across the faces;
+// the one passing closest to the target becomes a channel of low density, whose decoded
+// path follows the curve and then turns off to the target. It seeds the search (a winding
+// zero-energy path, e.g. a spiral over more than a turn, is out of reach of perturbations
+// of the uniform density) and starts the refinement.
+#pragma once
+
+#include "depath/energy/energy.hpp"
+#include "depath/mesh/mesh.hpp"
+
+#include <vector>
+
+namespace depath {
+
+/// Candidate guide channels, as per-vertex densities: kChannelDensity within 1.5 mean edge
+/// lengths of a traced curve up to one of its close approaches to the target (up to 3 per
+/// curve: a curve may pass near the target on another branch first), 1 elsewhere, the
+/// closest approach first. Empty if the energy prefers no direction at the
+/// source (geodesic energies). Deterministic; cost O(V x curve points) per candidate.
+std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target);
+
+}  // namespace depath

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: MIT
+// The job the angle-energy tests and bench/angle_cases run on a random case
+// (tests/random_cases.hpp), and the figures they read off a result.
+#pragma once
+
+#include "depath/energy/energy.hpp"
+#include "depath/solve/solve.hpp"
+#include "random_cases.hpp"
+
+#include <string>
+
+namespace depath::test {
+
+/// DE sizes for the random angle cases: small on purpose, the seeding and the refinement
+/// must do the work.
+inline constexpr int kAnglePopulation = 16;
+inline constexpr int kAngleGenerations = 60;
+
+/// `de --refine`, SHADE seeded with the problem, seed 1, on `c` at smoothness `lambda`.
+inline JobSpec angle_job(const AngleCase& c, double lambda, int population = kAnglePopulation,
+                         int generations = kAngleGenerations, int threads = 2) {
+  JobSpec job;
+  job.source = c.source;
+  job.target = c.target;
+  job.energy = c.energy;
+  job.energy.smoothness = lambda;
+  job.method = Method::de;
+  job.refine = true;
+  job.de.population = population;
+  job.de.generations = generations;
+  job.de.strategy = "shade";
+  job.de.seed_with_problem = true;
+  job.seed = 1;
+  job.threads = threads;
+  return job;
+}
+
+/// A named metric of a result (NaN if absent).
+inline double result_metric(const SolveResult& r, const std::string& name) {
+  for (const Metric& m : r.metrics)
+    if (m.name == name) return m.value;
+  return std::nan("");
+}
+
+/// Total turning of a path (radians) as the smoothness penalty measures it.
+inline double total_turning(const Mesh& mesh, EnergySpec spec, const SurfacePath& path) {
+  spec.smoothness = 1.0;
+  const auto energy = make_energy(mesh, spec);
+  double sum = 0.0;
+  for (int i = 1; i + 1 < static_cast<int>(path.points.size()); ++i) sum += energy->turning_angle(path, i);
+  return sum;
+}
+
+}  // namespace depath::test

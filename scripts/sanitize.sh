@@ -8,7 +8,9 @@
 # only, each entry explained there), server/grpc_handoff.hpp tells TSan the ordering gRPC
 # guarantees our reactors, and the tsan_canary tests check that a deliberate race in a gRPC
 # handler or reaction is still reported. The deploy tests (manifests, Dockerfile) are left
-# out of the TSan run: they start none of our threads.
+# out of the TSan run: they start none of our threads; so is the browser test of the web page
+# (it drives Chromium through the same HTTP routes service_http already runs under TSan, at
+# many times the cost).
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 kind="${1:-address,undefined}"
@@ -22,7 +24,7 @@ export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1" UBSAN_OPTIONS="print_stack
 export TSAN_OPTIONS="suppressions=$root/scripts/tsan.supp:halt_on_error=1"
 cd "$build"
 if [ "$kind" = thread ]; then
-  ctest --output-on-failure -j "${DEPATH_JOBS:-$(nproc)}" -E "^deploy" --timeout 1800
+  ctest --output-on-failure -j "${DEPATH_JOBS:-$(nproc)}" -E "^deploy|^web_view_browser" --timeout 1800
 else
   ctest --output-on-failure -j "${DEPATH_JOBS:-$(nproc)}" --timeout 1800
 fi

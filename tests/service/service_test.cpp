@@ -125,7 +125,10 @@ TEST(ServiceMeshes, LruEvictionSparesMeshesInUseAndDataDirReloads) {
   {
     TestServer ts(options);
     a_id = ts.upload_ok(grid_obj(30), "a.obj");
-    const std::string job = ts.submit_ok(long_job(a_id, 0, 899));  // pins a
+    const std::string job = ts.submit_ok(long_job(a_id, 0, 899));
+    // A queued job holds no mesh (the store reloads it): wait until the job runs and pins a.
+    std::vector<v1::JobEvent> events;
+    ASSERT_TRUE(ts.watch_until(job, [](const v1::JobEvent& e) { return e.has_progress(); }, &events).ok());
     const std::string b_id = ts.upload_ok(grid_obj(9), "b.obj");
     const std::string c_id = ts.upload_ok(grid_obj(10), "c.obj");
     v1::ListMeshesResponse list;
@@ -141,7 +144,7 @@ TEST(ServiceMeshes, LruEvictionSparesMeshesInUseAndDataDirReloads) {
     EXPECT_TRUE(cached.count(c_id));
     EXPECT_FALSE(cached.count(b_id));
     ts.cancel(job);
-    std::vector<v1::JobEvent> events;
+    events.clear();
     ASSERT_TRUE(ts.watch(job, 0, &events).ok());
   }
   {

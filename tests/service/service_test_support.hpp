@@ -140,6 +140,30 @@ class TestServer {
     return reader->Finish();
   }
 
+  /// Reads the job's watch stream until an event satisfies `stop` (then cancels the stream)
+  /// or the stream ends; the status is OK in the first case.
+  template <class Stop>
+  grpc::Status watch_until(const std::string& job_id, Stop stop, std::vector<v1::JobEvent>* events,
+                           double timeout = 120) {
+    auto ctx = context(timeout);
+    v1::WatchJobRequest req;
+    req.set_job_id(job_id);
+    auto reader = jobs_->WatchJob(ctx.get(), req);
+    v1::JobEvent ev;
+    while (reader->Read(&ev)) {
+      events->push_back(ev);
+      if (stop(ev)) {
+        ctx->TryCancel();
+        while (reader->Read(&ev)) {
+        }
+        reader->Finish();
+        return grpc::Status::OK;
+      }
+    }
+    const grpc::Status s = reader->Finish();
+    return s.ok() ? grpc::Status(grpc::StatusCode::NOT_FOUND, "the stream ended before the awaited event") : s;
+  }
+
   grpc::Status get_job(const std::string& job_id, v1::JobInfo* info) {
     v1::GetJobRequest req;
     req.set_job_id(job_id);

@@ -62,18 +62,7 @@ std::string fmt2(const char* f, double a, double b) {
 }
 
 JobSpec de_refine(int s, int t, int population, int generations) {
-  JobSpec job;
-  job.source = s;
-  job.target = t;
-  job.method = Method::de;
-  job.refine = true;
-  job.de.population = population;
-  job.de.generations = generations;
-  job.de.strategy = "shade";
-  job.de.seed_with_problem = true;
-  job.seed = 1;
-  job.threads = g_threads;
-  return job;
+  return test::de_refine_job(s, t, population, generations, g_threads);
 }
 
 JobSpec descent_of(JobSpec job) {

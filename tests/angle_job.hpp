@@ -16,14 +16,12 @@ namespace depath::test {
 inline constexpr int kAnglePopulation = 16;
 inline constexpr int kAngleGenerations = 60;
 
-/// `de --refine`, SHADE seeded with the problem, seed 1, on `c` at smoothness `lambda`.
-inline JobSpec angle_job(const AngleCase& c, double lambda, int population = kAnglePopulation,
-                         int generations = kAngleGenerations, int threads = 2) {
+/// `de --refine` from `source` to `target`: SHADE seeded with the problem, seed 1 (the
+/// energy left at its default; also bench/paper_figures' job).
+inline JobSpec de_refine_job(int source, int target, int population, int generations, int threads) {
   JobSpec job;
-  job.source = c.source;
-  job.target = c.target;
-  job.energy = c.energy;
-  job.energy.smoothness = lambda;
+  job.source = source;
+  job.target = target;
   job.method = Method::de;
   job.refine = true;
   job.de.population = population;
@@ -32,6 +30,15 @@ inline JobSpec angle_job(const AngleCase& c, double lambda, int population = kAn
   job.de.seed_with_problem = true;
   job.seed = 1;
   job.threads = threads;
+  return job;
+}
+
+/// de_refine_job on `c` with its energy at smoothness `lambda`.
+inline JobSpec angle_job(const AngleCase& c, double lambda, int population = kAnglePopulation,
+                         int generations = kAngleGenerations, int threads = 2) {
+  JobSpec job = de_refine_job(c.source, c.target, population, generations, threads);
+  job.energy = c.energy;
+  job.energy.smoothness = lambda;
   return job;
 }
 

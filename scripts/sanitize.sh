@@ -21,6 +21,7 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEPATH
   -DDEPATH_BUILD_BENCH=OFF "${depath_cache_flags[@]}"
 cmake --build "$build" -j "${DEPATH_JOBS:-$(nproc)}"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1" UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
+export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp"  # third-party leaks, each explained there
 export TSAN_OPTIONS="suppressions=$root/scripts/tsan.supp:halt_on_error=1"
 cd "$build"
 if [ "$kind" = thread ]; then

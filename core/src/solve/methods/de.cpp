@@ -282,6 +282,9 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   outcome.energy = rank_without_penalty ? ctx.energy.evaluate(outcome.path) : outcome_search_energy;
   if (job.refine) {
     outcome.refine_starts = refine_starts(ctx, fmm_search_energy, agent_paths, agent_energies, outcome_search_energy);
+    for (SurfacePath& path : guide_paths(ctx.mesh, ctx.energy, job.source, job.target)) {
+      outcome.refine_starts.push_back(std::move(path));
+    }
     if (!cheapest_guide_path.empty()) outcome.refine_starts.push_back(std::move(cheapest_guide_path));
     if (!guide_path.empty()) outcome.refine_starts.push_back(std::move(guide_path));
   }

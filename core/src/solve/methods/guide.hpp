@@ -10,6 +10,7 @@
 
 #include "depath/energy/energy.hpp"
 #include "depath/mesh/mesh.hpp"
+#include "depath/mesh/surface_path.hpp"
 
 #include <vector>
 
@@ -21,5 +22,15 @@ namespace depath {
 /// closest approach first. Empty if the energy prefers no direction at the
 /// source (geodesic energies). Deterministic; cost O(V x curve points) per candidate.
 std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target);
+
+/// Guide paths, as surface paths for the refinement to start from: from each end, the
+/// traced curves (integrated inside every face, chords between their edge crossings) cut
+/// where they pass through a face holding the other end, then straight to it; per end
+/// the cut of least segment energy (up to 2 paths, source to target; none for energies
+/// without preferred lines). A decoded channel is a fast-marching geodesic within 1.5
+/// edges of the curve, whose angle energy the refinement's local moves often cannot bring
+/// down to the curve's own (the integrand |angle| is kinked at 0); these start on it.
+/// Deterministic; cost O(curve points) per traced direction.
+std::vector<SurfacePath> guide_paths(const Mesh& mesh, const Energy& energy, int source, int target);
 
 }  // namespace depath

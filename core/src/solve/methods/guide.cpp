@@ -172,8 +172,7 @@ Trace trace_curve(const Mesh& mesh, const Energy& energy, int source, const Vec3
     const bool star = face_has(mesh, next, far) || face_has(mesh, face, far);
     if (in_star && !star && ++passes >= kMaxPasses) break;
     in_star = star;
-    if (chord.squaredNorm() > 0.0) direction = chord.normalized();
-    else direction = ox * frame.e1 + oy * frame.e2;
+    direction = chord.squaredNorm() > 0.0 ? Vec3(chord.normalized()) : Vec3(ox * frame.e1 + oy * frame.e2);
     x = y;
     face = next;
   }

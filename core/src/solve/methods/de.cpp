@@ -183,7 +183,7 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   // (guide.hpp). Its decoded path always joins the refinement starts; with seeding it is
   // the seed point when it beats the problem's own density.
   // The closest approach's channel seeds; the candidate whose decoded path costs least
-  // joins the refinement starts too.
+  // joins the refinement starts too, as do the traced curves themselves (guide_paths).
   SurfacePath guide_path, cheapest_guide_path;
   double guide_search_energy = std::numeric_limits<double>::infinity();
   std::vector<double> guide;

@@ -5,7 +5,9 @@
 // the one passing closest to the target becomes a channel of low density, whose decoded
 // path follows the curve and then turns off to the target. It seeds the search (a winding
 // zero-energy path, e.g. a spiral over more than a turn, is out of reach of perturbations
-// of the uniform density) and starts the refinement.
+// of the uniform density) and starts the refinement. The traced curves themselves, cut
+// in a face holding the other end (traced from either end), are refinement starts too
+// (guide_paths).
 #pragma once
 
 #include "depath/energy/energy.hpp"

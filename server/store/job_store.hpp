@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The durable state of depathd: meshes, jobs (spec, state, lease), their numbered events,
-// results and DE checkpoints, in SQLite (default, one process) or PostgreSQL (shared by
+// results, DE checkpoints and per-generation progress histories, in SQLite (default, one process) or PostgreSQL (shared by
 // replicas), or in an in-process SQLite database for `--store memory`.
 //
 // open_job_store(uri): "memory", "sqlite:PATH", "postgresql://..." (or "postgres://...").

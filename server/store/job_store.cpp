@@ -482,19 +482,36 @@ void JobStore::add_history(SqlSession& s, const std::string& id, std::vector<Pro
   if (points.empty()) return;
   std::sort(points.begin(), points.end(),
             [](const ProgressPoint& a, const ProgressPoint& b) { return a.generation < b.generation; });
+  // One row per generation in a statement (PostgreSQL refuses to update a row twice in one).
+  points.erase(std::unique(points.begin(), points.end(),
+                           [](const ProgressPoint& a, const ProgressPoint& b) { return a.generation == b.generation; }),
+               points.end());
   const int latest = points.back().generation;
   const int stride = progress_history_stride(latest);
+  // One statement per 200 points (a fast job stores hundreds of generations per progress write).
+  std::string sql;
+  std::vector<SqlParam> params;
+  auto flush = [&] {
+    if (params.empty()) return;
+    s.exec("INSERT INTO progress_history (job_id, generation, best_energy, mean_energy) VALUES " + sql +
+               " ON CONFLICT (job_id, generation) DO UPDATE SET best_energy = excluded.best_energy, "
+               "mean_energy = excluded.mean_energy",
+           params);
+    sql.clear();
+    params.clear();
+  };
   for (size_t i = 0; i < points.size(); ++i) {
     const ProgressPoint& p = points[i];
     if (p.generation % stride != 0 && i + 1 != points.size() && i != 0) continue;
     if (!std::isfinite(p.best_energy)) continue;  // no agent decoded yet
-    s.exec(
-        "INSERT INTO progress_history (job_id, generation, best_energy, mean_energy) VALUES ($1, $2, $3, $4) "
-        "ON CONFLICT (job_id, generation) DO UPDATE SET best_energy = excluded.best_energy, "
-        "mean_energy = excluded.mean_energy",
-        {id, p.generation, p.best_energy,
-         std::isfinite(p.mean_energy) ? SqlParam(p.mean_energy) : SqlParam(std::monostate{})});
+    const size_t k = params.size();
+    sql += (k ? ",($" : "($") + std::to_string(k + 1) + ",$" + std::to_string(k + 2) + ",$" + std::to_string(k + 3) +
+           ",$" + std::to_string(k + 4) + ")";
+    params.insert(params.end(), {SqlParam(id), SqlParam(p.generation), SqlParam(p.best_energy),
+                                 std::isfinite(p.mean_energy) ? SqlParam(p.mean_energy) : SqlParam(std::monostate{})});
+    if (params.size() >= 4 * 200) flush();
   }
+  flush();
   s.exec(
       "DELETE FROM progress_history WHERE job_id = $1 AND generation % $2 <> 0 AND generation < $3 AND "
       "generation > (SELECT MIN(generation) FROM progress_history WHERE job_id = $1)",

@@ -539,7 +539,8 @@ void JobManager::execute(Running& run, const JobRecord& job) {
         } else if (!history.empty()) {
           std::lock_guard lock(mutex_);
           const int upto = history.back().generation;
-          std::erase_if(run.unstored_history, [upto](const ProgressPoint& p) { return p.generation <= upto; });
+          std::erase_if(run.unstored_history,
+                        [upto](const ProgressPoint& p) { return p.generation <= upto; });
         }
         log_.debug(
             "job.checkpointed",

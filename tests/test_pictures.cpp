@@ -140,11 +140,12 @@ TEST_F(Pictures, RenderCommandDrawsTheFieldAlongItsDirection) {
   ASSERT_EQ(grid.num_vertices(), 121);
   const std::string result = grid_result(grid);
   const std::vector<Vec3> path = picture::read_result_path(result, grid);
-  const picture::OrthoCamera camera = picture::frame_on_path(grid, path, 640, 480);  // as the command frames it
+  const picture::OrthoCamera camera =
+      picture::frame_on_path(grid, path, 640, 480);  // as the command frames it
   auto render = [&](const std::string& name, const std::string& field_flag) {
     const std::string png = file(name);
-    const std::string command = std::string(DEPATH_BIN) + " render " + mesh_file + " " + result + " --out " + png +
-                                " --width 640 --height 480" + field_flag + " 2>/dev/null";
+    const std::string command = std::string(DEPATH_BIN) + " render " + mesh_file + " " + result + " --out " +
+                                png + " --width 640 --height 480" + field_flag + " 2>/dev/null";
     EXPECT_EQ(std::system(command.c_str()), 0) << command;
     cairo_surface_t* image = cairo_image_surface_create_from_png(png.c_str());
     EXPECT_EQ(cairo_surface_status(image), CAIRO_STATUS_SUCCESS) << png;
@@ -163,17 +164,21 @@ TEST_F(Pictures, RenderCommandDrawsTheFieldAlongItsDirection) {
   auto grey = [](const Rgb& c) { return std::abs(c.r - c.g) < 10 && std::abs(c.g - c.b) < 20 && c.g > 150; };
   // Vertices (i, j) = j * 11 + i away from the path (which runs from (1, 1) to (9, 7)).
   int checked = 0;
-  for (const auto& [i, j] : {std::pair{8, 2}, std::pair{7, 1}, std::pair{2, 6}, std::pair{3, 7}, std::pair{9, 3}}) {
+  for (const auto& [i, j] :
+       {std::pair{8, 2}, std::pair{7, 1}, std::pair{2, 6}, std::pair{3, 7}, std::pair{9, 3}}) {
     const auto p = camera.project(grid.position(j * 11 + i));
     if (p.x < 8 || p.y < 8 || p.x > 632 || p.y > 472) continue;
     ++checked;
     const std::string at = "vertex (" + std::to_string(i) + ", " + std::to_string(j) + ")";
     for (const double d : {-4.0, 4.0}) {
-      EXPECT_TRUE(teal(pixel(along_x, p.x + d, p.y))) << at << ": no x-field segment " << d << " px beside it";
+      EXPECT_TRUE(teal(pixel(along_x, p.x + d, p.y)))
+          << at << ": no x-field segment " << d << " px beside it";
       EXPECT_TRUE(grey(pixel(along_x, p.x, p.y + d))) << at << ": x-field drawn across x";
-      EXPECT_TRUE(teal(pixel(along_y, p.x, p.y + d))) << at << ": no y-field segment " << d << " px beside it";
+      EXPECT_TRUE(teal(pixel(along_y, p.x, p.y + d)))
+          << at << ": no y-field segment " << d << " px beside it";
       EXPECT_TRUE(grey(pixel(along_y, p.x + d, p.y))) << at << ": y-field drawn across y";
-      EXPECT_TRUE(grey(pixel(bare, p.x + d, p.y)) && grey(pixel(bare, p.x, p.y + d))) << at << ": bare picture";
+      EXPECT_TRUE(grey(pixel(bare, p.x + d, p.y)) && grey(pixel(bare, p.x, p.y + d)))
+          << at << ": bare picture";
     }
   }
   EXPECT_GE(checked, 4) << "too few test vertices inside the picture";

@@ -170,10 +170,11 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
                            "job " + id + " is " + wire::state_name(info.state()) +
                                ": a finished job keeps its result, not the field it was given");
       const auto lease = ctx.service.meshes.acquire(info.mesh_id());
-      res.set_content(field_json(spec.energy.field_from_height ? height_gradient_field(lease->mesh(), spec.energy.up_axis,
-                                                                                        spec.energy.rotate_degrees)
-                                                               : spec.energy.field),
-                      "application/json; charset=utf-8");  // not brotli: see static_files.cpp
+      const std::vector<Vec3> field =
+          spec.energy.field_from_height
+              ? height_gradient_field(lease->mesh(), spec.energy.up_axis, spec.energy.rotate_degrees)
+              : spec.energy.field;
+      res.set_content(field_json(field), "application/json; charset=utf-8");  // not brotli: see static_files.cpp
     });
   });
 

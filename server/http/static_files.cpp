@@ -108,7 +108,8 @@ std::optional<fs::path> find_web_root(const std::string& configured) {
   if (ec) return std::nullopt;
   // The build tree and the image keep it beside the executable; `cmake --install` puts
   // depathd in PREFIX/bin and the page in PREFIX/share/depath/web.
-  for (const fs::path& candidate : {exe.parent_path() / "web", exe.parent_path().parent_path() / "share/depath/web"}) {
+  for (const fs::path& candidate :
+       {exe.parent_path() / "web", exe.parent_path().parent_path() / "share/depath/web"}) {
     if (fs::is_directory(candidate, ec)) {
       auto root = fs::canonical(candidate, ec);
       if (!ec) return root;

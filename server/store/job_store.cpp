@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <filesystem>
+#include <limits>
 
 namespace depath::service {
 
@@ -484,7 +484,9 @@ void JobStore::add_history(SqlSession& s, const std::string& id, std::vector<Pro
             [](const ProgressPoint& a, const ProgressPoint& b) { return a.generation < b.generation; });
   // One row per generation in a statement (PostgreSQL refuses to update a row twice in one).
   points.erase(std::unique(points.begin(), points.end(),
-                           [](const ProgressPoint& a, const ProgressPoint& b) { return a.generation == b.generation; }),
+                           [](const ProgressPoint& a, const ProgressPoint& b) {
+                             return a.generation == b.generation;
+                           }),
                points.end());
   const int latest = points.back().generation;
   const int stride = progress_history_stride(latest);
@@ -505,10 +507,11 @@ void JobStore::add_history(SqlSession& s, const std::string& id, std::vector<Pro
     if (p.generation % stride != 0 && i + 1 != points.size() && i != 0) continue;
     if (!std::isfinite(p.best_energy)) continue;  // no agent decoded yet
     const size_t k = params.size();
-    sql += (k ? ",($" : "($") + std::to_string(k + 1) + ",$" + std::to_string(k + 2) + ",$" + std::to_string(k + 3) +
-           ",$" + std::to_string(k + 4) + ")";
-    params.insert(params.end(), {SqlParam(id), SqlParam(p.generation), SqlParam(p.best_energy),
-                                 std::isfinite(p.mean_energy) ? SqlParam(p.mean_energy) : SqlParam(std::monostate{})});
+    sql += (k ? ",($" : "($") + std::to_string(k + 1) + ",$" + std::to_string(k + 2) + ",$" +
+           std::to_string(k + 3) + ",$" + std::to_string(k + 4) + ")";
+    params.insert(params.end(),
+                  {SqlParam(id), SqlParam(p.generation), SqlParam(p.best_energy),
+                   std::isfinite(p.mean_energy) ? SqlParam(p.mean_energy) : SqlParam(std::monostate{})});
     if (params.size() >= 4 * 200) flush();
   }
   flush();
@@ -521,10 +524,11 @@ void JobStore::add_history(SqlSession& s, const std::string& id, std::vector<Pro
 std::vector<ProgressPoint> JobStore::progress_history(const std::string& id) {
   auto s = db_->session();
   std::vector<ProgressPoint> out;
-  for (const auto& r : s->exec("SELECT generation, best_energy, mean_energy FROM progress_history WHERE job_id = "
-                               "$1 ORDER BY generation",
-                               {id})
-                           .rows) {
+  for (const auto& r :
+       s->exec("SELECT generation, best_energy, mean_energy FROM progress_history WHERE job_id = "
+               "$1 ORDER BY generation",
+               {id})
+           .rows) {
     out.push_back({static_cast<int>(sql_int(r[0])), sql_double(r[1]),
                    sql_null(r[2]) ? std::numeric_limits<double>::quiet_NaN() : sql_double(r[2])});
   }

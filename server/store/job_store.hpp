@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The durable state of depathd: meshes, jobs (spec, state, lease), their numbered events,
-// results, DE checkpoints and per-generation progress histories, in SQLite (default, one process) or PostgreSQL (shared by
-// replicas), or in an in-process SQLite database for `--store memory`.
+// results, DE checkpoints and per-generation progress histories, in SQLite (default, one process) or
+// PostgreSQL (shared by replicas), or in an in-process SQLite database for `--store memory`.
 //
 // open_job_store(uri): "memory", "sqlite:PATH", "postgresql://..." (or "postgres://...").
 // The schema is versioned (table schema_version) and migrated at open; a store written by

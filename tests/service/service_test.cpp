@@ -849,7 +849,8 @@ TEST(ServiceJobStore, ProgressHistoryIsThinnedAndWrittenByTheOwnerOnly) {
   for (int g = 1; g <= 2500; ++g) {
     batch.push_back(point(g));
     if (g % 37 == 0) {  // a progress event every 37 generations carries the ones since the last
-      ASSERT_EQ(store->append_event("job-h", "owner", progress(g, ++seq), true, batch), service::JobStore::Append::stored);
+      ASSERT_EQ(store->append_event("job-h", "owner", progress(g, ++seq), true, batch),
+                service::JobStore::Append::stored);
       batch.clear();
     }
     if (g == 1200) {  // a checkpoint carries the unstored ones too; a resumed run repeats 1100..1200

@@ -65,6 +65,7 @@ struct JobManager::Running {
   int cancel_code = kCancelled;
   std::string cancel_message;
   std::optional<v1::Progress> last_progress;
+  std::vector<ProgressPoint> unstored_history;  // generations not in the store's history yet
   double started = 0;
 };
 
@@ -227,6 +228,24 @@ v1::JobInfo JobManager::get(const std::string& job_id) {
   return info_of(job, job.state == v1::JOB_STATE_QUEUED ? store_.queue_position(job.number) : 0);
 }
 
+std::vector<ProgressPoint> JobManager::progress_history(const std::string& job_id) {
+  find(job_id);  // NOT_FOUND for an unknown job
+  // The runner's points not stored yet first: read after them, the store has every point
+  // they lose to a concurrent flush.
+  std::vector<ProgressPoint> unstored;
+  {
+    std::lock_guard lock(mutex_);
+    auto run = running_.find(job_id);
+    if (run != running_.end()) unstored = run->second->unstored_history;
+  }
+  std::vector<ProgressPoint> history = store_.progress_history(job_id);
+  const int stored_upto = history.empty() ? -1 : history.back().generation;
+  for (const auto& p : unstored) {
+    if (p.generation > stored_upto) history.push_back(p);
+  }
+  return history;
+}
+
 v1::JobResult JobManager::result(const std::string& job_id) {
   const JobRecord job = find(job_id);
   if (job.has_result) {
@@ -385,7 +404,17 @@ bool JobManager::emit(Running& run, v1::JobEvent event, bool persist) {
     // Progress never waits for the store (it may be busy storing a large checkpoint): if
     // it is busy, this one stays unstored and a later one (or the finish) is stored instead.
     auto stored = JobStore::Append::busy;
-    if (persist) stored = store_.append_event(run.id, replica_, event, !event.has_progress());
+    std::vector<ProgressPoint> history;
+    if (persist && event.has_progress()) {
+      std::lock_guard lock(mutex_);
+      history = run.unstored_history;
+    }
+    if (persist) stored = store_.append_event(run.id, replica_, event, !event.has_progress(), history);
+    if (stored == JobStore::Append::stored && !history.empty()) {
+      std::lock_guard lock(mutex_);  // the points stored; later ones stay
+      const int upto = history.back().generation;
+      std::erase_if(run.unstored_history, [upto](const ProgressPoint& p) { return p.generation <= upto; });
+    }
     if (stored == JobStore::Append::lost) {
       run.lost.store(true);
       run.cancel.store(true);
@@ -492,18 +521,26 @@ void JobManager::execute(Running& run, const JobRecord& job) {
     last_checkpoint = std::chrono::steady_clock::now();
     if (!store_.durable() || run.lost.load()) return;
     int generation = 0;  // the checkpoint is taken before the generation after the last reported one
+    std::vector<ProgressPoint> history;  // stored with it: a resume from it leaves no gap in the history
     {
       std::lock_guard lock(mutex_);
       if (run.last_progress) generation = run.last_progress->generation();
+      history = run.unstored_history;
     }
     if (generation == 0) generation = std::max(0, resumed_generation);
     if (writing.valid()) writing.get();  // a suspend's checkpoint follows the one being written
-    writing = std::async(std::launch::async, [this, &run, id = job.id, generation, bytes = std::move(bytes)] {
+    writing = std::async(std::launch::async, [this, &run, id = job.id, generation, bytes = std::move(bytes),
+                                              history = std::move(history)] {
       const auto t0 = std::chrono::steady_clock::now();
       try {
-        if (!store_.put_checkpoint(id, replica_, generation, bytes)) {
+        if (!store_.put_checkpoint(id, replica_, generation, bytes, history)) {
           run.lost.store(true);
           run.cancel.store(true);
+        } else if (!history.empty()) {
+          std::lock_guard lock(mutex_);
+          const int upto = history.back().generation;
+          std::erase_if(run.unstored_history,
+                        [upto](const ProgressPoint& p) { return p.generation <= upto; });
         }
         log_.debug(
             "job.checkpointed",
@@ -549,6 +586,10 @@ void JobManager::execute(Running& run, const JobRecord& job) {
       std::lock_guard lock(mutex_);
       run.last_progress = ev.progress();
       run.last_progress->clear_best_path();
+      run.unstored_history.push_back({p.generation, p.best_energy, p.mean_energy});
+      // Bounded while the store is busy: thinned as the stored history is.
+      if (run.unstored_history.size() > 2 * kProgressHistoryPoints)
+        thin_progress_history(run.unstored_history, p.generation);
     }
     const auto now = std::chrono::steady_clock::now();
     const bool persist = now - last_persist >= seconds(persist_every);
@@ -630,7 +671,12 @@ void JobManager::finish(Running& run, v1::JobState state, int code, const std::s
   // The store keeps the latest progress too (watchers after the end see what live ones saw).
   std::vector<v1::JobEvent> stored = events;
   if (run.unstored_progress) stored.insert(stored.begin(), *run.unstored_progress);
-  if (run.lost.load() || !store_.finish(run.id, replica_, result.get(), stored)) {
+  std::vector<ProgressPoint> history;
+  {
+    std::lock_guard lock(mutex_);
+    history = run.unstored_history;
+  }
+  if (run.lost.load() || !store_.finish(run.id, replica_, result.get(), stored, history)) {
     log_.warn("job.lease_lost",
               {{"job", run.id}, {"reason", "finished elsewhere or taken over; result dropped"}});
     return;

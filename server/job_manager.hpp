@@ -49,6 +49,9 @@ class JobManager {
   v1::SubmitJobResponse submit(const v1::SubmitJobRequest& request);
   v1::JobInfo get(const std::string& job_id);
   v1::JobResult result(const std::string& job_id);
+  /// Best and mean energy per generation so far (the store's history and, for a job running
+  /// here, the generations not stored yet), thinned as store/job_store.hpp says.
+  std::vector<ProgressPoint> progress_history(const std::string& job_id);
   v1::ListJobsResponse list(const v1::ListJobsRequest& request);
   v1::JobInfo cancel(const std::string& job_id);
   /// The job's event log (NOT_FOUND for an unknown job).

@@ -167,7 +167,7 @@ int main(int argc, char** argv) {
                  "Server-Sent-Events API under /v1/ and the web page (/, /jobs/JOB_ID)");
   app.add_option("--web-root", o.web_root,
                  "Directory of the web page's files (index.html, assets/). Default: 'web' beside the depathd "
-                 "executable if it exists, else a plain HTML view");
+                 "executable, or ../share/depath/web from it (installed), if it exists, else a plain HTML view");
   app.add_option("--http-threads", o.http_threads,
                  "HTTP worker threads; each open event stream holds one (streams beyond threads - 4 get 503)")
       ->capture_default_str()->check(CLI::Range(2, 1024));

@@ -2,16 +2,19 @@
 // `depath render` / `depath plot` drawing (client/picture): the picture has the requested size,
 // the path and its endpoints are where the camera projects them, results from another mesh and
 // broken inputs are refused with a message naming the problem, plots have one vertex per
-// progress line.
+// progress line; `depath render --field` (the binary) draws the field's segments along the
+// field's direction at the vertices and leaves the picture as it was elsewhere.
 #include <cairo.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "depath/generators/surfaces.hpp"
+#include "depath/io/mesh_reader.hpp"
 #include "depath/io/result_writer.hpp"
 #include "depath/solve/solve.hpp"
 #include "depath/util/error.hpp"
@@ -122,6 +125,66 @@ TEST_F(Pictures, FieldOverlayIsDrawnAndCheckedAgainstTheMesh) {
   std::stringstream sa, sb;
   sa << a.rdbuf(), sb << b.rdbuf();
   EXPECT_NE(sa.str(), sb.str()) << "the field overlay changed nothing";
+}
+
+// `depath render MESH RESULT --field FILE` as users run it: on an 11 x 11 flat grid, a field
+// along x draws a short horizontal segment at each vertex (teal over the grey surface), a
+// field along y a vertical one, and without --field the same pixels are plain surface.
+TEST_F(Pictures, RenderCommandDrawsTheFieldAlongItsDirection) {
+  const std::string mesh_file = file("grid11.obj");
+  ASSERT_EQ(std::system((std::string(DEPATH_BIN) + " generate grid --n 11 --half-size 3 --out " + mesh_file +
+                         " 2>/dev/null")
+                            .c_str()),
+            0);
+  const Mesh grid = load_mesh(mesh_file);
+  ASSERT_EQ(grid.num_vertices(), 121);
+  const std::string result = grid_result(grid);
+  const std::vector<Vec3> path = picture::read_result_path(result, grid);
+  const picture::OrthoCamera camera =
+      picture::frame_on_path(grid, path, 640, 480);  // as the command frames it
+  auto render = [&](const std::string& name, const std::string& field_flag) {
+    const std::string png = file(name);
+    const std::string command = std::string(DEPATH_BIN) + " render " + mesh_file + " " + result + " --out " +
+                                png + " --width 640 --height 480" + field_flag + " 2>/dev/null";
+    EXPECT_EQ(std::system(command.c_str()), 0) << command;
+    cairo_surface_t* image = cairo_image_surface_create_from_png(png.c_str());
+    EXPECT_EQ(cairo_surface_status(image), CAIRO_STATUS_SUCCESS) << png;
+    return image;
+  };
+  auto field_file = [&](const std::string& name, const char* vector) {
+    std::ofstream out(file(name));
+    for (int v = 0; v < grid.num_vertices(); ++v) out << vector << "\n";
+    return " --field " + file(name);
+  };
+  cairo_surface_t* bare = render("bare.png", "");
+  cairo_surface_t* along_x = render("field-x.png", field_file("x.field", "1 0 0"));
+  cairo_surface_t* along_y = render("field-y.png", field_file("y.field", "0 1 0"));
+  // Teal: green and blue well above red (the surface is grey, the path red).
+  auto teal = [](const Rgb& c) { return c.g - c.r > 15 && c.b - c.r > 15; };
+  auto grey = [](const Rgb& c) { return std::abs(c.r - c.g) < 10 && std::abs(c.g - c.b) < 20 && c.g > 150; };
+  // Vertices (i, j) = j * 11 + i away from the path (which runs from (1, 1) to (9, 7)).
+  int checked = 0;
+  for (const auto& [i, j] :
+       {std::pair{8, 2}, std::pair{7, 1}, std::pair{2, 6}, std::pair{3, 7}, std::pair{9, 3}}) {
+    const auto p = camera.project(grid.position(j * 11 + i));
+    if (p.x < 8 || p.y < 8 || p.x > 632 || p.y > 472) continue;
+    ++checked;
+    const std::string at = "vertex (" + std::to_string(i) + ", " + std::to_string(j) + ")";
+    for (const double d : {-4.0, 4.0}) {
+      EXPECT_TRUE(teal(pixel(along_x, p.x + d, p.y)))
+          << at << ": no x-field segment " << d << " px beside it";
+      EXPECT_TRUE(grey(pixel(along_x, p.x, p.y + d))) << at << ": x-field drawn across x";
+      EXPECT_TRUE(teal(pixel(along_y, p.x, p.y + d)))
+          << at << ": no y-field segment " << d << " px beside it";
+      EXPECT_TRUE(grey(pixel(along_y, p.x + d, p.y))) << at << ": y-field drawn across y";
+      EXPECT_TRUE(grey(pixel(bare, p.x + d, p.y)) && grey(pixel(bare, p.x, p.y + d)))
+          << at << ": bare picture";
+    }
+  }
+  EXPECT_GE(checked, 4) << "too few test vertices inside the picture";
+  cairo_surface_destroy(bare);
+  cairo_surface_destroy(along_x);
+  cairo_surface_destroy(along_y);
 }
 
 TEST_F(Pictures, ResultFromAnotherMeshIsRefused) {

@@ -43,6 +43,8 @@ std::string http_route_label(const std::string& method, const std::string& path)
       {std::regex("/v1/jobs/[^/]+"), "/v1/jobs/{id}"},
       {std::regex("/v1/jobs/[^/]+/events"), "/v1/jobs/{id}/events"},
       {std::regex("/v1/jobs/[^/]+/cancel"), "/v1/jobs/{id}/cancel"},
+      {std::regex("/v1/jobs/[^/]+/progress"), "/v1/jobs/{id}/progress"},
+      {std::regex("/v1/jobs/[^/]+/field"), "/v1/jobs/{id}/field"},
       {std::regex("/v1/jobs/[^/]+/result\\.[a-z]+"), "/v1/jobs/{id}/result"},
       {std::regex("/v1/meshes"), "/v1/meshes"},
       {std::regex("/v1/meshes/[^/]+"), "/v1/meshes/{id}"},

@@ -2,6 +2,7 @@
 #include "http/json_api.hpp"
 
 #include "depath/io/result_writer.hpp"
+#include "depath/mesh/tangent_fields.hpp"
 #include "depath/util/error.hpp"
 #include "depath/wire/wire.hpp"
 #include "http/job_json.hpp"
@@ -9,6 +10,7 @@
 #include "service_error.hpp"
 
 #include <charconv>
+#include <cmath>
 #include <future>
 #include <sstream>
 
@@ -102,6 +104,20 @@ std::string geometry_json(const Mesh& mesh) {
   return out;
 }
 
+std::string field_json(const std::vector<Vec3>& field) {
+  std::string out;
+  out.reserve(field.size() * 30 + 16);
+  out += "{\"field\":[";
+  for (size_t v = 0; v < field.size(); ++v) {
+    for (int k = 0; k < 3; ++k) {
+      if (v + k > 0) out += ',';
+      append_float(out, field[v][k]);
+    }
+  }
+  out += "]}";
+  return out;
+}
+
 void add_json_api(httplib::Server& server, HttpContext& ctx) {
   server.Get("/v1/jobs", [&ctx](const httplib::Request& req, httplib::Response& res) {
     api_call(ctx, req, res, false, [&] {
@@ -121,6 +137,44 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
       std::optional<v1::JobResult> result;
       if (info.has_result()) result = ctx.service.jobs.result(id);
       send_json(res, job_detail(info, result ? &*result : nullptr));
+    });
+  });
+
+  server.Get(R"(/v1/jobs/([^/]+)/progress)", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    api_call(ctx, req, res, false, [&] {
+      const std::string id = req.matches[1];
+      json generation = json::array(), best = json::array(), mean = json::array();
+      for (const ProgressPoint& p : ctx.service.jobs.progress_history(id)) {
+        generation.push_back(p.generation);
+        best.push_back(p.best_energy);
+        mean.push_back(std::isfinite(p.mean_energy) ? json(p.mean_energy) : json(nullptr));
+      }
+      send_json(res, {{"job_id", id},
+                      {"max_points", kProgressHistoryPoints},
+                      {"generation", std::move(generation)},
+                      {"best_energy", std::move(best)},
+                      {"mean_energy", std::move(mean)}});
+    });
+  });
+
+  server.Get(R"(/v1/jobs/([^/]+)/field)", [&ctx](const httplib::Request& req, httplib::Response& res) {
+    api_call(ctx, req, res, false, [&] {
+      const std::string id = req.matches[1];
+      const v1::JobInfo info = ctx.service.jobs.get(id);
+      const JobSpec spec = wire::job_from_proto(info.spec());
+      if (spec.energy.kind != EnergyKind::vector_field)
+        throw ServiceError(grpc::StatusCode::FAILED_PRECONDITION,
+                           "job " + id + " has no field: its energy is " + energy_kind_name(spec.energy.kind));
+      if (!spec.energy.field_from_height && spec.energy.field.empty())
+        throw ServiceError(grpc::StatusCode::FAILED_PRECONDITION,
+                           "job " + id + " is " + wire::state_name(info.state()) +
+                               ": a finished job keeps its result, not the field it was given");
+      const auto lease = ctx.service.meshes.acquire(info.mesh_id());
+      const std::vector<Vec3> field =
+          spec.energy.field_from_height
+              ? height_gradient_field(lease->mesh(), spec.energy.up_axis, spec.energy.rotate_degrees)
+              : spec.energy.field;
+      res.set_content(field_json(field), "application/json; charset=utf-8");  // not brotli: see static_files.cpp
     });
   });
 

@@ -22,5 +22,7 @@ void add_json_api(httplib::Server& server, HttpContext& ctx);
 /// The geometry body: positions as single-precision shortest decimals (enough for a
 /// viewer, half the bytes of doubles), faces as vertex ids.
 std::string geometry_json(const Mesh& mesh);
+/// A per-vertex field as {"field":[x0,y0,z0,...]} (single-precision decimals, as geometry).
+std::string field_json(const std::vector<Vec3>& field);
 
 }  // namespace depath::service::http

@@ -106,8 +106,15 @@ std::optional<fs::path> find_web_root(const std::string& configured) {
   }
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   if (ec) return std::nullopt;
-  const fs::path beside = exe.parent_path() / "web";
-  if (fs::is_directory(beside, ec)) return fs::canonical(beside, ec);
+  // The build tree and the image keep it beside the executable; `cmake --install` puts
+  // depathd in PREFIX/bin and the page in PREFIX/share/depath/web.
+  for (const fs::path& candidate :
+       {exe.parent_path() / "web", exe.parent_path().parent_path() / "share/depath/web"}) {
+    if (fs::is_directory(candidate, ec)) {
+      auto root = fs::canonical(candidate, ec);
+      if (!ec) return root;
+    }
+  }
   return std::nullopt;
 }
 

@@ -5,7 +5,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <limits>
 
 namespace depath::service {
 
@@ -46,6 +48,11 @@ const char* const kMigrations[] = {
        CREATE TABLE checkpoints (
          job_id TEXT PRIMARY KEY, generation BIGINT NOT NULL, saved DOUBLE PRECISION NOT NULL, body {BLOB} NOT NULL);
        CREATE TABLE expired_jobs (id TEXT PRIMARY KEY, expired DOUBLE PRECISION NOT NULL);)",
+    // 1 -> 2: per-generation convergence, for the chart of a finished job (events keep only
+    // the latest progress).
+    R"(CREATE TABLE progress_history (
+         job_id TEXT NOT NULL, generation BIGINT NOT NULL, best_energy DOUBLE PRECISION NOT NULL,
+         mean_energy DOUBLE PRECISION, PRIMARY KEY (job_id, generation));)",
 };
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));
 
@@ -112,6 +119,21 @@ bool terminal(int state) {
 }  // namespace
 
 int job_store_schema_version() { return kSchemaVersion; }
+
+int progress_history_stride(int latest) {
+  int stride = 1;
+  while (latest / stride >= kProgressHistoryPoints) stride *= 2;
+  return stride;
+}
+
+void thin_progress_history(std::vector<ProgressPoint>& points, int latest) {
+  if (points.size() <= 2) return;
+  const int stride = progress_history_stride(latest);
+  const int first = points.front().generation, last = points.back().generation;
+  std::erase_if(points, [&](const ProgressPoint& p) {
+    return p.generation % stride != 0 && p.generation != first && p.generation != last;
+  });
+}
 
 JobStore::JobStore(std::unique_ptr<SqlDatabase> db, std::string description, bool durable, bool keeps_meshes)
     : db_(std::move(db)),
@@ -360,7 +382,8 @@ bool JobStore::reserve_sequences(const std::string& id, const std::string& owner
 }
 
 JobStore::Append JobStore::append_event(const std::string& id, const std::string& owner,
-                                        const v1::JobEvent& event, bool wait) {
+                                        const v1::JobEvent& event, bool wait,
+                                        const std::vector<ProgressPoint>& history) {
   auto s = wait ? db_->session() : db_->try_session();
   if (!s) return Append::busy;
   SqlTransaction tx(*s, db_->dialect());
@@ -374,7 +397,10 @@ JobStore::Append JobStore::append_event(const std::string& id, const std::string
                    "last_sequence END WHERE id = $3 AND owner = $4",
                    {sql_blob(summary.SerializeAsString()), seq, id, owner})
                   .affected;
-    if (changed) s->exec("DELETE FROM events WHERE job_id = $1 AND progress <> 0", {id});
+    if (changed) {
+      s->exec("DELETE FROM events WHERE job_id = $1 AND progress <> 0", {id});
+      add_history(*s, id, history);
+    }
   } else if (event.has_state()) {
     changed = s->exec(
                    "UPDATE jobs SET state = $1, started = CASE WHEN started = 0 THEN $2 ELSE started END, "
@@ -392,7 +418,7 @@ JobStore::Append JobStore::append_event(const std::string& id, const std::string
 }
 
 bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, int generation,
-                              const std::string& bytes) {
+                              const std::string& bytes, const std::vector<ProgressPoint>& history) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
   if (s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty()) return false;
@@ -401,6 +427,7 @@ bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, i
       "ON CONFLICT (job_id) DO UPDATE SET generation = excluded.generation, saved = excluded.saved, "
       "body = excluded.body",
       {id, generation, now_unix(), sql_blob(bytes)});
+  add_history(*s, id, history);
   tx.commit();
   return true;
 }
@@ -422,7 +449,7 @@ std::string JobStore::get_checkpoint(const std::string& id) {
 }
 
 bool JobStore::finish(const std::string& id, const std::string& owner, const v1::JobResult* result,
-                      const std::vector<v1::JobEvent>& events) {
+                      const std::vector<v1::JobEvent>& events, const std::vector<ProgressPoint>& history) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
   auto job = get_job_in(*s, id, true);
@@ -452,9 +479,69 @@ bool JobStore::finish(const std::string& id, const std::string& owner, const v1:
         "NOTHING",
         {id, static_cast<int64_t>(e.sequence()), e.has_progress() ? 1 : 0, sql_blob(e.SerializeAsString())});
   }
+  add_history(*s, id, history);
   s->exec("DELETE FROM checkpoints WHERE job_id = $1", {id});
   tx.commit();
   return true;
+}
+
+// Adds points (a resumed run repeats generations with the same figures: the newer wins), then
+// drops the stored points the stride of the latest generation no longer keeps.
+void JobStore::add_history(SqlSession& s, const std::string& id, std::vector<ProgressPoint> points) {
+  if (points.empty()) return;
+  std::sort(points.begin(), points.end(),
+            [](const ProgressPoint& a, const ProgressPoint& b) { return a.generation < b.generation; });
+  // One row per generation in a statement (PostgreSQL refuses to update a row twice in one).
+  points.erase(std::unique(points.begin(), points.end(),
+                           [](const ProgressPoint& a, const ProgressPoint& b) {
+                             return a.generation == b.generation;
+                           }),
+               points.end());
+  const int latest = points.back().generation;
+  const int stride = progress_history_stride(latest);
+  // One statement per 200 points (a fast job stores hundreds of generations per progress write).
+  std::string sql;
+  std::vector<SqlParam> params;
+  auto flush = [&] {
+    if (params.empty()) return;
+    s.exec("INSERT INTO progress_history (job_id, generation, best_energy, mean_energy) VALUES " + sql +
+               " ON CONFLICT (job_id, generation) DO UPDATE SET best_energy = excluded.best_energy, "
+               "mean_energy = excluded.mean_energy",
+           params);
+    sql.clear();
+    params.clear();
+  };
+  for (size_t i = 0; i < points.size(); ++i) {
+    const ProgressPoint& p = points[i];
+    if (p.generation % stride != 0 && i + 1 != points.size() && i != 0) continue;
+    if (!std::isfinite(p.best_energy)) continue;  // no agent decoded yet
+    const size_t k = params.size();
+    sql += (k ? ",($" : "($") + std::to_string(k + 1) + ",$" + std::to_string(k + 2) + ",$" +
+           std::to_string(k + 3) + ",$" + std::to_string(k + 4) + ")";
+    params.insert(params.end(),
+                  {SqlParam(id), SqlParam(p.generation), SqlParam(p.best_energy),
+                   std::isfinite(p.mean_energy) ? SqlParam(p.mean_energy) : SqlParam(std::monostate{})});
+    if (params.size() >= 4 * 200) flush();
+  }
+  flush();
+  s.exec(
+      "DELETE FROM progress_history WHERE job_id = $1 AND generation % $2 <> 0 AND generation < $3 AND "
+      "generation > (SELECT MIN(generation) FROM progress_history WHERE job_id = $1)",
+      {id, stride, latest});
+}
+
+std::vector<ProgressPoint> JobStore::progress_history(const std::string& id) {
+  auto s = db_->session();
+  std::vector<ProgressPoint> out;
+  for (const auto& r :
+       s->exec("SELECT generation, best_energy, mean_energy FROM progress_history WHERE job_id = "
+               "$1 ORDER BY generation",
+               {id})
+           .rows) {
+    out.push_back({static_cast<int>(sql_int(r[0])), sql_double(r[1]),
+                   sql_null(r[2]) ? std::numeric_limits<double>::quiet_NaN() : sql_double(r[2])});
+  }
+  return out;
 }
 
 void JobStore::release(const std::string& id, const std::string& owner) {
@@ -534,6 +621,7 @@ int JobStore::expire(double before, int64_t keep_at_most) {
     s->exec("DELETE FROM events WHERE job_id = $1", {id});
     s->exec("DELETE FROM results WHERE job_id = $1", {id});
     s->exec("DELETE FROM checkpoints WHERE job_id = $1", {id});
+    s->exec("DELETE FROM progress_history WHERE job_id = $1", {id});
     s->exec("DELETE FROM jobs WHERE id = $1", {id});
     s->exec("INSERT INTO expired_jobs (id, expired) VALUES ($1, $2) ON CONFLICT DO NOTHING", {id, now});
   }

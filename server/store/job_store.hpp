@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The durable state of depathd: meshes, jobs (spec, state, lease), their numbered events,
-// results and DE checkpoints, in SQLite (default, one process) or PostgreSQL (shared by
-// replicas), or in an in-process SQLite database for `--store memory`.
+// results, DE checkpoints and per-generation progress histories, in SQLite (default, one process) or
+// PostgreSQL (shared by replicas), or in an in-process SQLite database for `--store memory`.
 //
 // open_job_store(uri): "memory", "sqlite:PATH", "postgresql://..." (or "postgres://...").
 // The schema is versioned (table schema_version) and migrated at open; a store written by
@@ -50,6 +50,23 @@ struct JobRecord {
   bool has_result = false;
 };
 
+/// One generation of a job's convergence (what the chart of a job's page draws).
+struct ProgressPoint {
+  int generation = 0;
+  double best_energy = 0;
+  double mean_energy = 0;  ///< NaN when some agents had no finite energy (stored as NULL)
+};
+
+/// A job's progress history keeps at most about this many points: every generation while
+/// there are fewer, then every 2nd, 4th, ... (the stride doubles as the job goes on), always
+/// with the first and the latest generation. Bounded whatever --generations allows.
+constexpr int kProgressHistoryPoints = 1000;
+/// The stride of the history once `latest` generations are done (a power of two).
+int progress_history_stride(int latest);
+/// Removes from `points` (ascending generations) those a history at `latest` drops: not a
+/// multiple of the stride, neither the first nor the last.
+void thin_progress_history(std::vector<ProgressPoint>& points, int latest);
+
 enum class CancelOutcome { cancelled_queued, requested, already_final };
 
 class JobStore {
@@ -97,21 +114,26 @@ class JobStore {
   /// Reserves sequences up to `upto`. False if the lease is lost.
   bool reserve_sequences(const std::string& id, const std::string& owner, uint64_t upto);
   /// Stores a state or result event (or progress: replaces the job's previous progress
-  /// row and its JobInfo progress). `state`: the job's new state (RUNNING sets started).
-  /// lost: the lease is lost (nothing written); busy: !wait and the store is busy.
+  /// row and its JobInfo progress, and adds `history` — the generations since the last
+  /// stored progress — to the job's progress history). `state`: the job's new state
+  /// (RUNNING sets started). lost: the lease is lost (nothing written); busy: !wait and the
+  /// store is busy.
   enum class Append { stored, lost, busy };
   Append append_event(const std::string& id, const std::string& owner, const v1::JobEvent& event,
-                      bool wait = true);
+                      bool wait = true, const std::vector<ProgressPoint>& history = {});
+  /// Stores the checkpoint and `history` (the generations up to it not stored yet, so that a
+  /// run resumed from it leaves no gap in the progress history). False if the lease is lost.
   bool put_checkpoint(const std::string& id, const std::string& owner, int generation,
-                      const std::string& bytes);
+                      const std::string& bytes, const std::vector<ProgressPoint>& history = {});
   std::string get_checkpoint(const std::string& id);
   std::optional<v1::JobResult> get_result(const std::string& id);
   /// Terminal state, result and final events (the terminal state event last; a progress
   /// event among them replaces the stored one) in one transaction; drops the checkpoint and
   /// the spec's per-vertex arrays (a finished job keeps only what its result needs).
   /// False (and nothing written) if the lease is lost.
+  /// `history`: the generations not stored yet, added to the progress history.
   bool finish(const std::string& id, const std::string& owner, const v1::JobResult* result,
-              const std::vector<v1::JobEvent>& events);
+              const std::vector<v1::JobEvent>& events, const std::vector<ProgressPoint>& history = {});
   /// Gives the job back (stays queued/running) for another replica or a restart.
   void release(const std::string& id, const std::string& owner);
   /// Gives back every job `owner` holds (a named replica's earlier life); returns how many.
@@ -123,6 +145,10 @@ class JobStore {
   /// Events with a sequence above `after`, in order (progress: only the latest).
   std::vector<v1::JobEvent> events_after(const std::string& id, uint64_t after);
 
+  /// The job's progress history, ascending generations (thinned as kProgressHistoryPoints
+  /// says); it survives restarts and stays after the job ends, until the job expires.
+  std::vector<ProgressPoint> progress_history(const std::string& id);
+
   /// Removes terminal jobs finished before `before`, and the oldest terminal jobs past the
   /// newest `keep_at_most`, with their events, results and checkpoints, leaving a
   /// tombstone. Returns how many (at most about 2000 a call).
@@ -131,6 +157,7 @@ class JobStore {
  private:
   void migrate();
   std::optional<JobRecord> get_job_in(SqlSession& s, const std::string& id, bool for_update);
+  void add_history(SqlSession& s, const std::string& id, std::vector<ProgressPoint> points);
 
   std::unique_ptr<SqlDatabase> db_;
   std::string description_;

@@ -49,6 +49,8 @@ TEST(HttpMetrics, ExpositionTextIsExact) {
 TEST(HttpMetrics, RouteLabelsAreBounded) {
   EXPECT_EQ(service::http_route_label("GET", "/v1/jobs/job-1234/events"), "GET /v1/jobs/{id}/events");
   EXPECT_EQ(service::http_route_label("GET", "/v1/jobs/job-1234/result.csv"), "GET /v1/jobs/{id}/result");
+  EXPECT_EQ(service::http_route_label("GET", "/v1/jobs/job-1234/progress"), "GET /v1/jobs/{id}/progress");
+  EXPECT_EQ(service::http_route_label("GET", "/v1/jobs/job-1234/field"), "GET /v1/jobs/{id}/field");
   EXPECT_EQ(service::http_route_label("POST", "/v1/meshes"), "POST /v1/meshes");
   EXPECT_EQ(service::http_route_label("GET", "/v1/whatever/x/y"), "GET /v1/other");
   EXPECT_EQ(service::http_route_label("GET", "/assets/index-abc.js"), "GET /assets/*");

@@ -6,7 +6,10 @@ as the result.json download); the SSE stream (ids strictly increasing and equal 
 state/progress/path/result kinds, the stream ends after the terminal state; resume with Last-Event-ID
 and ?after= gives exactly the events after N); error mapping (400/404/409/429 with the gRPC code name);
 auth (401 without or with a wrong token, exempt routes); path traversal refused; the web root and the
-plain fallback page; /metrics parsed by prometheus_client after a real job, with counters equal to
+plain fallback page; the per-generation progress history (GET /v1/jobs/ID/progress: one point per
+generation, equal to the streamed figures, best non-increasing; thinned past 1000 points as documented;
+complete after a SIGTERM/restart on SQLite that suspends and resumes the job); the field of a
+vector-field job (GET /v1/jobs/ID/field, the height gradient of the terrain); /metrics parsed by prometheus_client after a real job, with counters equal to
 the job's own figures (evaluations, generations, uploads, 401s).
 
 Liveness bounds come from the configured limits, scaled by DEPATH_TEST_TIME_SCALE."""
@@ -39,11 +42,11 @@ def check(cond, message):
 
 
 class Daemon:
-    def __init__(self, name, binary, extra=()):
+    def __init__(self, name, binary, extra=(), store="memory"):
         self.port_file = os.path.join(WORK, name + ".port")
         self.http_port_file = os.path.join(WORK, name + ".hport")
         self.log = os.path.join(WORK, name + ".log")
-        self.proc = subprocess.Popen([binary, "--store", "memory", "--listen", "127.0.0.1:0", "--port-file",
+        self.proc = subprocess.Popen([binary, "--store", store, "--listen", "127.0.0.1:0", "--port-file",
                                       self.port_file, "--http-listen", "127.0.0.1:0", "--http-port-file",
                                       self.http_port_file, "--threads", "2", "--log-format", "json"] + list(extra),
                                      stdout=subprocess.DEVNULL, stderr=open(self.log, "w"))
@@ -382,6 +385,148 @@ def test_fallback(d):
     check(s == 200 and reply["id"].encode() in b, "fallback job page lacks the id")
 
 
+def history_stride(latest):
+    # store/job_store.hpp: every generation up to 1000 points, then a doubling stride
+    stride = 1
+    while latest // stride >= 1000:
+        stride *= 2
+    return stride
+
+
+def get_history(d, job, token=None):
+    h = get_json(d, "/v1/jobs/%s/progress" % job, token=token)
+    check(h["job_id"] == job and h["max_points"] == 1000, "history header %s" % {k: h[k] for k in ("job_id", "max_points")})
+    n = len(h["generation"])
+    check(len(h["best_energy"]) == n and len(h["mean_energy"]) == n, "history columns of unequal length")
+    best = h["best_energy"]
+    check(all(b2 <= b1 for b1, b2 in zip(best, best[1:])), "best energy increases in the history: %s" % best)
+    check(all(m is None or b <= m + 1e-9 for b, m in zip(best, h["mean_energy"])), "best above mean in the history")
+    return h
+
+
+def wait_state(d, job, states, seconds, token=None):
+    deadline = time.monotonic() + seconds * SCALE
+    while True:
+        j = get_json(d, "/v1/jobs/" + job, token=token)
+        if j["state"] in states:
+            return j
+        check(time.monotonic() < deadline, "job %s still %s after %g s" % (job, j["state"], seconds * SCALE))
+        time.sleep(0.05)
+
+
+def test_history(d, mesh_id):
+    # -- one point per generation, the same figures the stream carried
+    spec = {"mesh_id": mesh_id, "source": 366, "target": 230, "generations": 60, "population": 8, "seed": 5,
+            "path_every": 0}
+    s, reply = post_json(d, "/v1/jobs", spec, token=None)
+    check(s == 200, "history job: %s" % reply)
+    job = reply["id"]
+    events = read_events(d, job)
+    result = [e[2] for e in events if e[1] == "result"][0]["result"]
+    g_end = result["generations"]
+    h = get_history(d, job)
+    check(h["generation"] == list(range(1, g_end + 1)),
+          "history generations %s, expected 1..%d" % (h["generation"][:5] + ["..."] + h["generation"][-3:], g_end))
+    by_gen = dict(zip(h["generation"], zip(h["best_energy"], h["mean_energy"])))
+    streamed = [e[2] for e in events if e[1] in ("progress", "path")]
+    check(streamed, "no progress in the stream")
+    for p in streamed:
+        check(by_gen[p["generation"]] == (p["best_energy"], p["mean_energy"]),
+              "generation %d: history %s, stream %s" % (p["generation"], by_gen[p["generation"]], p))
+    check(result["energy"] <= h["best_energy"][-1] + 1e-9, "the result's energy is above the history's best")
+    check(h["best_energy"][0] > h["best_energy"][-1], "DE improved nothing in 60 generations: %s" % h["best_energy"])
+    print("history: %d points for %d generations, best %.6g -> %.6g" % (len(h["generation"]), g_end,
+                                                                      h["best_energy"][0], h["best_energy"][-1]))
+    s, _, b = request(d, "GET", "/v1/jobs/job-0000000000000000/progress", token=None)
+    expect_error(s, json.loads(b), 404, "NOT_FOUND")
+    s, _, b = request(d, "GET", "/v1/jobs/%s/field" % job, token=None)
+    expect_error(s, json.loads(b), 409, "FAILED_PRECONDITION", "geodesic")
+
+    # -- past 1000 generations the history is thinned: the first, every stride-th and the last
+    grid = os.path.join(WORK, "grid6.obj")
+    r = depath("generate", "grid", "--n", "6", "--out", grid)
+    check(r.returncode == 0, "generate grid: " + r.stderr)
+    s, _, b = request(d, "POST", "/v1/meshes?format=obj", open(grid, "rb").read(), token=None)
+    grid_id = json.loads(b)["mesh_id"]
+    s, reply = post_json(d, "/v1/jobs", {"mesh_id": grid_id, "source": 0, "target": 35, "generations": 2600,
+                                         "population": 6, "seed": 3, "path_every": 0}, token=None)
+    check(s == 200, "long history job: %s" % reply)
+    j = wait_state(d, reply["id"], ("succeeded", "failed", "cancelled"), 300)
+    check(j["state"] == "succeeded", "long history job %s" % j["state"])
+    g_end = j["result"]["generations"]
+    check(g_end > 2000, "the long job stopped at generation %d (%s): no thinning to check" %
+          (g_end, j["result"].get("stop_reason")))
+    stride = history_stride(g_end)
+    h = get_history(d, reply["id"])
+    expected = sorted({1, g_end} | set(range(stride, g_end + 1, stride)))
+    check(h["generation"] == expected, "thinned history: %d points %s..., expected %d with stride %d" %
+          (len(h["generation"]), h["generation"][:6], len(expected), stride))
+    check(len(expected) <= 1001, "history over its bound")
+    print("history thinned: %d points for %d generations (stride %d)" % (len(expected), g_end, stride))
+
+    # -- the field of a vector-field job: the terrain's height gradient, one vector per vertex
+    peaks = os.path.join(WORK, "peaks.obj")
+    check(depath("generate", "peaks", "--n", "9", "--out", peaks).returncode == 0, "generate peaks")
+    s, _, b = request(d, "POST", "/v1/meshes?format=obj", open(peaks, "rb").read(), token=None)
+    peaks_id = json.loads(b)["mesh_id"]
+    s, reply = post_json(d, "/v1/jobs", {"mesh_id": peaks_id, "source": 0, "target": 80, "energy": "vector_field",
+                                         "field_from_height": True, "method": "fmm"}, token=None)
+    check(s == 200, "field job %s" % reply)
+    wait_state(d, reply["id"], ("succeeded",), 60)
+    f = get_json(d, "/v1/jobs/%s/field" % reply["id"], token=None)["field"]
+    check(len(f) == 81 * 3, "field of %d numbers for 81 vertices" % len(f))
+    # each vector lies in the horizontal plane's projection of the gradient: not all zero, finite
+    check(any(abs(x) > 1e-6 for x in f) and all(x == x for x in f), "field values %s" % f[:9])
+
+
+def test_history_restart(depathd):
+    """SQLite: a job suspended by SIGTERM mid-run resumes after the restart from its checkpoint; its
+    history then has every generation once, and it is still there after a second restart."""
+    store = "sqlite:" + os.path.join(WORK, "history.db")
+    extra = ["--checkpoint-seconds", "0.2"]
+    d = Daemon("durable1", depathd, extra, store=store)
+    try:
+        mesh_bytes = open(ARGS.mesh, "rb").read()
+        s, _, b = request(d, "POST", "/v1/meshes?format=off", mesh_bytes, token=None)
+        mesh_id = json.loads(b)["mesh_id"]
+        s, reply = post_json(d, "/v1/jobs", {"mesh_id": mesh_id, "source": 366, "target": 230, "generations": 400,
+                                             "population": 24, "seed": 11, "path_every": 0}, token=None)
+        check(s == 200, "durable job %s" % reply)
+        job = reply["id"]
+        deadline = time.monotonic() + 120 * SCALE
+        while True:
+            j = get_json(d, "/v1/jobs/" + job, token=None)
+            if j["state"] == "running" and (j["progress"] or {}).get("generation", 0) >= 20:
+                break
+            check(j["state"] in ("queued", "running"), "durable job ended before the restart: %s" % j["state"])
+            check(time.monotonic() < deadline, "durable job did not reach generation 20")
+            time.sleep(0.05)
+        before = get_history(d, job)["generation"]
+    finally:
+        d.stop()
+    d = Daemon("durable2", depathd, extra, store=store)
+    try:
+        j = wait_state(d, job, ("succeeded", "failed", "cancelled"), 600)
+        check(j["state"] == "succeeded", "resumed job %s" % j["state"])
+        g_end = j["result"]["generations"]
+        h = get_history(d, job)
+        check(h["generation"] == list(range(1, g_end + 1)),
+              "history after a restart has gaps or repeats: %d points for %d generations" % (len(h["generation"]), g_end))
+        check(len(before) >= 20 and h["generation"][:len(before)] == before, "history before the restart changed")
+        resumed = [json.loads(l) for l in open(d.log) if '"job.resumed"' in l]
+        check(len(resumed) == 1 and 20 <= resumed[0]["checkpoint_generation"] < g_end,
+              "the job did not resume from a mid-run checkpoint: %s" % resumed)
+        resumed_at = resumed[0]["checkpoint_generation"]
+    finally:
+        d.stop()
+    d = Daemon("durable3", depathd, extra, store=store)
+    try:
+        check(get_history(d, job) == h, "the finished job's history changed across a restart")
+    finally:
+        d.stop()
+    print("history on SQLite across restarts: %d generations, resumed after generation %d" % (g_end, resumed_at))
+
+
 def test_shutdown(d):
     """SIGTERM with an open event stream (memory store): the stream gets the job's final CANCELLED
     event and ends, and depathd exits within its shutdown bound."""
@@ -470,6 +615,10 @@ def main():
         daemons.append(f)
         test_fallback(f)
         print("fallback page: ok")
+        test_history(f, hashlib.sha256(open(ARGS.mesh, "rb").read()).hexdigest())
+        print("progress history and field: ok")
+        test_history_restart(ARGS.depathd)
+        print("progress history across restarts: ok")
         test_shutdown(f)
         print("event stream at shutdown: ok")
     finally:

@@ -821,6 +821,65 @@ TEST(ServiceJobStore, FinishedJobsKeepNoPerVertexArrays) {
   EXPECT_EQ(store->get_result("job-run")->energy(), 1);
 }
 
+// The progress history: every generation while under kProgressHistoryPoints, then the first,
+// the multiples of a doubling stride and the latest; written only by the lease holder (with
+// progress, checkpoints and the finish), unchanged by repeated generations of a resumed run,
+// removed when the job expires.
+TEST(ServiceJobStore, ProgressHistoryIsThinnedAndWrittenByTheOwnerOnly) {
+  EXPECT_EQ(service::progress_history_stride(999), 1);
+  EXPECT_EQ(service::progress_history_stride(1000), 2);
+  EXPECT_EQ(service::progress_history_stride(2500), 4);
+  const auto store = service::JobStore::open("memory");
+  v1::JobEvent queued;
+  queued.mutable_state()->set_state(v1::JOB_STATE_QUEUED);
+  service::JobRecord record;
+  record.id = "job-h";
+  record.mesh_id = "m";
+  store->insert_job(record, queued);
+  ASSERT_TRUE(store->claim("owner", 1.0, 600));
+  auto point = [](int g) { return service::ProgressPoint{g, 100.0 - g * 0.01, 200.0 - g * 0.01}; };
+  auto progress = [](int g, uint64_t seq) {
+    v1::JobEvent e;
+    e.set_sequence(seq);
+    e.mutable_progress()->set_generation(g);
+    return e;
+  };
+  uint64_t seq = 1;
+  std::vector<service::ProgressPoint> batch;
+  for (int g = 1; g <= 2500; ++g) {
+    batch.push_back(point(g));
+    if (g % 37 == 0) {  // a progress event every 37 generations carries the ones since the last
+      ASSERT_EQ(store->append_event("job-h", "owner", progress(g, ++seq), true, batch),
+                service::JobStore::Append::stored);
+      batch.clear();
+    }
+    if (g == 1200) {  // a checkpoint carries the unstored ones too; a resumed run repeats 1100..1200
+      ASSERT_TRUE(store->put_checkpoint("job-h", "owner", g, "state", batch));
+      batch.clear();
+      for (int r = 1100; r <= 1200; ++r) batch.push_back(point(r));
+    }
+  }
+  // Someone else (the lease lost) writes nothing.
+  EXPECT_EQ(store->append_event("job-h", "intruder", progress(2600, 999), true, {point(2600)}),
+            service::JobStore::Append::lost);
+  v1::JobEvent done;
+  done.set_sequence(++seq);
+  done.mutable_state()->set_state(v1::JOB_STATE_SUCCEEDED);
+  ASSERT_TRUE(store->finish("job-h", "owner", nullptr, {done}, batch));
+  const auto history = store->progress_history("job-h");
+  std::vector<int> got, want = {1};
+  for (const auto& p : history) got.push_back(p.generation);
+  for (int g = 4; g <= 2500; g += 4) want.push_back(g);
+  EXPECT_EQ(got, want);
+  for (const auto& p : history) {
+    EXPECT_EQ(p.best_energy, point(p.generation).best_energy) << p.generation;
+    EXPECT_EQ(p.mean_energy, point(p.generation).mean_energy) << p.generation;
+  }
+  EXPECT_TRUE(store->progress_history("job-unknown").empty());
+  EXPECT_EQ(store->expire(1e18, 0), 1);
+  EXPECT_TRUE(store->progress_history("job-h").empty());
+}
+
 // ---- AccessGuard (tokens, failed-attempt limit, request rate) ------------------------------
 
 TEST(AccessGuard, PeerHostDropsThePort) {

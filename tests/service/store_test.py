@@ -391,6 +391,21 @@ def test_postgres(pg):
         check(resumed and resumed[0].get("checkpoint_generation", -1) >= 300, "B did not resume from a checkpoint")
         print("postgresql takeover after kill -9: resumed on the other replica from generation %d, identical, "
               "done %.1f s later" % (resumed[0]["checkpoint_generation"], time.monotonic() - t0))
+        # Its progress history has no gap (the checkpoint carries the generations before it; the
+        # resumed run repeats those after it), thinned past 1000 points as store/job_store.hpp says.
+        g_end = result(b, job)["generations"]
+        stride = 1
+        while g_end // stride >= 1000:
+            stride *= 2
+        stored = pg.query("SELECT string_agg(generation::text, ',' ORDER BY generation) FROM progress_history "
+                          "WHERE job_id = '%s'" % job)
+        expected = sorted({1, g_end} | set(range(stride, g_end + 1, stride)))
+        check(stored == ",".join(map(str, expected)),
+              "history of the taken-over job: %s..., expected %d points, stride %d" % (stored[:60], len(expected), stride))
+        rises = pg.query("SELECT COUNT(*) FROM (SELECT best_energy, LAG(best_energy) OVER (ORDER BY generation) AS prev "
+                         "FROM progress_history WHERE job_id = '%s') h WHERE best_energy > prev" % job)
+        check(rises == "0", "the best energy rises %s times in the history" % rises)
+        print("postgresql: the taken-over job's history has its %d points (stride %d)" % (len(expected), stride))
 
         # Cancel through the replica that does not run the job.
         a = Daemon(store, opts)
@@ -432,7 +447,7 @@ def test_postgres(pg):
     d = Daemon(store, ["--job-ttl-seconds", "1"])
     try:
         time.sleep(3 * SCALE)
-        for table in ("jobs", "events", "results", "checkpoints"):
+        for table in ("jobs", "events", "results", "checkpoints", "progress_history"):
             check(pg.query("SELECT COUNT(*) FROM %s" % table) == "0", "rows left in %s after the TTL" % table)
         check(int(pg.query("SELECT COUNT(*) FROM expired_jobs")) >= 50, "no tombstones for expired jobs")
     finally:

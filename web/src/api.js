@@ -50,6 +50,8 @@ async function call(method, path, { body, headers = {} } = {}) {
 
 export const listJobs = () => call('GET', '/v1/jobs');
 export const getJob = (id) => call('GET', `/v1/jobs/${encodeURIComponent(id)}`);
+export const getProgress = (id) => call('GET', `/v1/jobs/${encodeURIComponent(id)}/progress`);
+export const getField = (id) => call('GET', `/v1/jobs/${encodeURIComponent(id)}/field`);
 export const getGeometry = (meshId) => call('GET', `/v1/meshes/${encodeURIComponent(meshId)}/geometry`);
 export const cancelJob = (id) => call('POST', `/v1/jobs/${encodeURIComponent(id)}/cancel`);
 export const submitJob = (spec) =>

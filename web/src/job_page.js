@@ -1,7 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The page of one job (/jobs/{id}): id and state, live progress, the convergence chart, the
 // 3D view with the best path so far and the s/t markers, the result's figures and downloads.
-// Live updates come from the job's event stream (progress, path, state, result).
+// Live updates come from the job's event stream (progress, path, state, result); the chart
+// also loads the job's stored per-generation history (GET /v1/jobs/{id}/progress) once the
+// stream is connected, so a finished job shows its whole convergence and a running one the
+// generations before the page was opened. A vector-field job's field is an overlay that a
+// checkbox turns on and off.
 
 import * as api from './api.js';
 import { followEvents } from './sse.js';
@@ -16,6 +20,10 @@ export function renderJobPage(root, jobId, status) {
   const progressEl = h('span', { id: 'job-progress' }, '');
   const chartEl = h('div', { id: 'chart', class: 'chart' });
   const viewEl = h('div', { id: 'view', class: 'view' });
+  const fieldToggle = h('input', { type: 'checkbox', id: 'field-toggle', checked: true });
+  const fieldNote = h('span', { id: 'field-note', class: 'note' }, '');
+  const fieldControl = h('label', { id: 'field-control', class: 'overlay-toggle', hidden: true },
+    fieldToggle, ' show the field', ' ', fieldNote);
   const figuresEl = h('table', { id: 'figures', class: 'figures' });
   const downloadsEl = h('p', { id: 'downloads', class: 'downloads' });
   const cancelButton = h('button', { id: 'cancel', type: 'button', hidden: true }, 'Cancel job');
@@ -24,7 +32,7 @@ export function renderJobPage(root, jobId, status) {
     h('h1', {}, 'Job ', h('code', { id: 'job-id' }, jobId)),
     h('p', { class: 'status-line' }, 'State: ', stateEl, ' ', progressEl, ' ', cancelButton),
     h('div', { class: 'panels' },
-      h('section', { class: 'panel' }, h('h2', {}, 'Surface and path'), viewEl),
+      h('section', { class: 'panel' }, h('h2', {}, 'Surface and path'), viewEl, fieldControl),
       h('section', { class: 'panel' }, h('h2', {}, 'Convergence'), chartEl, h('h2', {}, 'Result'), figuresEl, downloadsEl)),
   );
 
@@ -43,6 +51,33 @@ export function renderJobPage(root, jobId, status) {
   };
   let spec = null;
   let stop = null;
+  let historyRequested = false;
+  const loadHistory = () => {
+    if (historyRequested) return;
+    historyRequested = true;
+    api.getProgress(jobId).then((history) => {
+      live.historyPoints = history.generation.length;
+      chart.addHistory(history);
+    }, (e) => status(`Cannot load the convergence history: ${e.message}`, true));
+  };
+
+  // The field overlay (vector-field jobs): loaded when first shown, then kept.
+  let field = null;
+  const showField = async () => {
+    viewEl.dataset.fieldShown = String(fieldToggle.checked);
+    if (!fieldToggle.checked) return view.setField(null);
+    try {
+      if (!field) field = (await api.getField(jobId)).field;
+      if (fieldToggle.checked) view.setField(field);
+      fieldNote.textContent = '';
+    } catch (e) {
+      fieldNote.textContent = `(${e.message})`;
+      fieldToggle.checked = false;
+      fieldToggle.disabled = true;
+      viewEl.dataset.fieldShown = 'false';
+    }
+  };
+  fieldToggle.addEventListener('change', showField);
   let finished = false;
 
   const setState = (state) => {
@@ -87,6 +122,8 @@ export function renderJobPage(root, jobId, status) {
   });
 
   const onEvent = (ev) => {
+    // Connected: from now on every progress event reaches the chart, the history has the rest.
+    loadHistory();
     const d = ev.data || {};
     if (ev.event === 'progress' || ev.event === 'path') {
       // A path event is a progress event that also carries the best path so far.
@@ -133,8 +170,10 @@ export function renderJobPage(root, jobId, status) {
       view.setMarker('s', spec.source);
       view.setMarker('t', spec.target);
       view.lookAtVertices([spec.source, spec.target]);
-      // A per-vertex field given with the job (vector_field energy) as an overlay.
-      if (Array.isArray(spec.field) && spec.field.length === geometry.vertices.length / 3) view.setField(spec.field.flat());
+      if (spec.energy === 'vector_field') {
+        fieldControl.hidden = false;
+        await showField();
+      }
       if (job.result) view.setPath(job.result.points, { final: true });
     } catch (e) {
       status(`Cannot load the mesh: ${e.message}`, true);

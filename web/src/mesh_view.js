@@ -14,6 +14,8 @@ import { LineGeometry } from 'three/addons/lines/LineGeometry.js';
 import { LineMaterial } from 'three/addons/lines/LineMaterial.js';
 
 export const FOV_DEGREES = 45;
+/// The field overlay's colour (unlit: its pixels are exactly this where a segment is drawn).
+export const FIELD_COLOUR = 0x0d5966;
 
 export class MeshView {
   constructor(container, { height = 480 } = {}) {
@@ -165,10 +167,15 @@ export class MeshView {
     this.requestRender();
   }
 
-  /// Short segments along a per-vertex field (flat x y z array) on at most ~3000 vertices.
+  /// Short segments along a per-vertex field (flat x y z array) on at most ~3000 vertices;
+  /// null removes them. The container's data-field-segments tells how many are drawn.
   setField(field) {
-    if (this.fieldLines) this.scene.remove(this.fieldLines);
+    if (this.fieldLines) {
+      this.scene.remove(this.fieldLines);
+      this.fieldLines.geometry.dispose();
+    }
     this.fieldLines = null;
+    this.container.dataset.fieldSegments = '0';
     if (!field || !this.vertices) return this.requestRender();
     const n = this.vertices.length / 3;
     const step = Math.max(1, Math.floor(n / 3000));
@@ -183,8 +190,10 @@ export class MeshView {
     }
     const geometry = new THREE.BufferGeometry();
     geometry.setAttribute('position', new THREE.Float32BufferAttribute(positions, 3));
-    this.fieldLines = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: 0x0d5966 }));
+    this.fieldLines = new THREE.LineSegments(geometry, new THREE.LineBasicMaterial({ color: FIELD_COLOUR }));
+    this.fieldLines.renderOrder = 2;
     this.scene.add(this.fieldLines);
+    this.container.dataset.fieldSegments = String(positions.length / 6);
     this.requestRender();
   }
 

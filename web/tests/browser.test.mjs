@@ -6,7 +6,10 @@
 //   3. on the front page, uploading a flat grid and clicking two points of the surface fills s
 //      and t with the vertex ids the test computes from the camera it reads back;
 //   4. with --auth-token, the page asks for the token, then works (token kept in sessionStorage);
-//   5. screenshots of each step are kept in the artifacts directory.
+//   5. a finished job's page loads its whole convergence history: one chart point per generation;
+//   6. a vector-field job's field overlay: drawn (its colour's pixels on the canvas) with the
+//      checkbox on, gone with it off, back on again;
+//   7. screenshots of each step are kept in the artifacts directory.
 // Skips (exit 77) with a message when chromium, playwright-core or depathd's --http-listen are
 // missing. Liveness bounds scale with DEPATH_TEST_TIME_SCALE.
 //   node tests/browser.test.mjs DEPATHD DEPATH TEST_DATA_DIR ARTIFACTS_DIR
@@ -109,6 +112,63 @@ try {
     await page.waitForFunction((g) => Number(document.querySelector('#chart').dataset.lastGeneration) === g,
       job.result.generations, { timeout: bound(20000) });
     await page.screenshot({ path: join(artifacts, 'job-finished.png') });
+
+    // Opened after the end: the stream replays only the latest progress, the stored history
+    // gives the chart every generation.
+    await page.goto(`${server.base}/jobs/${id}`);
+    await page.waitForFunction(() => document.querySelector('#job-state').textContent === 'succeeded', null, { timeout: bound(20000) });
+    const history = await api(server.base, 'GET', `/v1/jobs/${id}/progress`);
+    assert.deepEqual(history.generation, Array.from({ length: job.result.generations }, (_, i) => i + 1));
+    await page.waitForFunction((n) => Number(document.querySelector('#chart').dataset.points) === n,
+      job.result.generations, { timeout: bound(20000) });
+    assert.equal(await page.evaluate(() => window.__depath.job.historyPoints), job.result.generations);
+    figures.finished_chart_points = Number(await page.getAttribute('#chart', 'data-points'));
+    assert.equal(await page.isVisible('#field-toggle'), false, 'a geodesic job has no field checkbox');
+    await page.screenshot({ path: join(artifacts, 'job-finished-reopened.png') });
+  });
+
+  await step('a vector-field job: the field overlay follows its checkbox', async () => {
+    const spec = { mesh_id: kittenId, source: 0, target: 320, energy: 'vector_field', field_from_height: true, method: 'fmm' };
+    const { id } = await api(server.base, 'POST', '/v1/jobs', JSON.stringify(spec), { 'Content-Type': 'application/json' });
+    await page.goto(`${server.base}/jobs/${id}`);
+    await page.waitForFunction(() => document.querySelector('#job-state').textContent === 'succeeded', null, { timeout: bound(60000) });
+    await page.waitForSelector('#view[data-path-final="true"]', { timeout: bound(20000) });
+    assert.equal(await page.isVisible('#field-toggle'), true, 'no visible field checkbox');
+    assert.equal(await page.isChecked('#field-toggle'), true, 'the overlay starts shown');
+    // Pixels of the overlay's colour (unlit lines: exact, up to antialiasing) on the 3D canvas.
+    const fieldPixels = () => page.evaluate(() => new Promise((resolve) => {
+      requestAnimationFrame(() => requestAnimationFrame(() => {
+        const gl = document.querySelector('#view canvas');
+        const c = document.createElement('canvas');
+        c.width = gl.width;
+        c.height = gl.height;
+        const g = c.getContext('2d');
+        g.drawImage(gl, 0, 0);
+        const px = g.getImageData(0, 0, c.width, c.height).data;
+        let n = 0;
+        for (let i = 0; i < px.length; i += 4) {
+          if (Math.abs(px[i] - 0x0d) <= 3 && Math.abs(px[i + 1] - 0x59) <= 3 && Math.abs(px[i + 2] - 0x66) <= 3) ++n;
+        }
+        resolve(n);
+      }));
+    }));
+    await page.waitForFunction(() => Number(document.querySelector('#view').dataset.fieldSegments) > 0, null, { timeout: bound(20000) });
+    const on = await fieldPixels();
+    const field = await api(server.base, 'GET', `/v1/jobs/${id}/field`);
+    const vertices = (await api(server.base, 'GET', `/v1/meshes/${kittenId}/geometry`)).vertices.length / 3;
+    assert.equal(field.field.length, 3 * vertices);
+    assert.ok(on > 200, `field overlay on: only ${on} pixels of its colour`);
+    await page.screenshot({ path: join(artifacts, 'field-on.png') });
+    await page.click('#field-toggle');
+    await page.waitForFunction(() => document.querySelector('#view').dataset.fieldSegments === '0', null, { timeout: bound(5000) });
+    const off = await fieldPixels();
+    assert.equal(off, 0, `field overlay off: still ${off} pixels of its colour`);
+    await page.screenshot({ path: join(artifacts, 'field-off.png') });
+    await page.click('#field-toggle');
+    await page.waitForFunction(() => Number(document.querySelector('#view').dataset.fieldSegments) > 0, null, { timeout: bound(5000) });
+    const again = await fieldPixels();
+    assert.ok(again > 200, `field overlay back on: ${again} pixels`);
+    figures.field_overlay_pixels = { on, off, again };
   });
 
   await step('clicking the surface picks s and t', async () => {
@@ -186,4 +246,4 @@ for (const r of results) console.log(r);
 console.log(`figures: ${JSON.stringify(figures)}`);
 writeFileSync(join(artifacts, 'figures.json'), JSON.stringify(figures, null, 1));
 console.log(`screenshots in ${artifacts}`);
-process.exit(results.some((r) => r.startsWith('FAIL')) || results.length < 4 ? 1 : 0);
+process.exit(results.some((r) => r.startsWith('FAIL')) || results.length < 5 ? 1 : 0);

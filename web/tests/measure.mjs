@@ -37,6 +37,13 @@ try {
       `chart after receiving progress: ${stats(live.latencies)}; after the server logged it: ${stats(live.serverToChart)}`);
     console.log(`  timing ${JSON.stringify(live.timing)}`);
     if (r === 0) await page.screenshot({ path: '/tmp/depath-web-measure.png' });
+    // The finished job reopened: its chart comes from the stored history.
+    const t0 = Date.now();
+    await page.goto(`${server.base}/jobs/${id}`);
+    await page.waitForFunction(() => window.__depath.job.historyPoints !== undefined &&
+      Number(document.querySelector('#chart').dataset.points) >= window.__depath.job.historyPoints, null, { timeout: 120000 });
+    console.log(`  reopened after the end: ${await page.getAttribute('#chart', 'data-points')} chart points ` +
+      `(history ${await page.evaluate(() => window.__depath.job.historyPoints)}) in ${Date.now() - t0} ms`);
     await page.close();
   }
 } finally {

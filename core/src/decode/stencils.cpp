@@ -4,6 +4,7 @@
 #include <Eigen/Core>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 
@@ -22,6 +23,8 @@ inline double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y(
 constexpr int kMaxUnfoldSteps = 12;
 // Corners a hair above 90 degrees are numerically fine as they are.
 constexpr double kObtuseCos = -1e-9;
+
+std::atomic<uint64_t> stencil_builds{0};
 
 // A triangle update "target c from supports x, y", all in one (unfolded) plane, c at the origin.
 struct PlanarUpdate {
@@ -179,6 +182,14 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     }
   }
   offset_[nv] = static_cast<int>(groups_.size());
+  stencil_builds.fetch_add(1, std::memory_order_relaxed);
 }
+
+uint64_t FastMarchingStencils::memory_bytes() const {
+  return sizeof(*this) + offset_.capacity() * sizeof(int) + groups_.capacity() * sizeof(Group) +
+         tris_.capacity() * sizeof(Tri);
+}
+
+uint64_t FastMarchingStencils::builds() { return stencil_builds.load(std::memory_order_relaxed); }
 
 }  // namespace depath

@@ -145,7 +145,7 @@ int main(int argc, char** argv) {
     std::printf("threads per job %d; DE population %s, generations %s, refine on; descent: fmm path + refinement\n",
                 threads, population ? std::to_string(population).c_str() : "default",
                 generations ? std::to_string(generations).c_str() : "default");
-    std::printf("%-20s %8s %10s %12s\n", "mesh", "vertices", "parse ms", "stencils ms");
+    std::printf("%-20s %8s %10s %12s %12s\n", "mesh", "vertices", "parse ms", "stencils ms", "stencils MB");
     std::map<std::string, std::vector<Run>> runs;  // per method
     for (const std::string& name : meshes) {
       auto t0 = Clock::now();
@@ -154,7 +154,8 @@ int main(int argc, char** argv) {
       t0 = Clock::now();
       const FastMarchingStencils stencils(mesh);  // the server's cached copy
       const double build = seconds_since(t0);
-      std::printf("%-20s %8d %10.1f %12.1f\n", name.c_str(), mesh.num_vertices(), 1e3 * parse, 1e3 * build);
+      std::printf("%-20s %8d %10.1f %12.1f %12.2f\n", name.c_str(), mesh.num_vertices(), 1e3 * parse, 1e3 * build,
+                  double(stencils.memory_bytes()) / (1 << 20));
       std::fflush(stdout);
       int done = 0;
       for (const auto& pair : pairs) {

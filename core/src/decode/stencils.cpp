@@ -159,7 +159,25 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     r.has_tri = false;
     raw.push_back(r);
   }
-  std::stable_sort(raw.begin(), raw.end(), [](const Raw& a, const Raw& b) { return a.x != b.x ? a.x < b.x : a.c < b.c; });
+  // The order of a stable sort by (x, c), at linear cost (the merge sort was a fifth of the
+  // build): a counting sort by x, then an insertion sort by c within each vertex's few entries.
+  {
+    std::vector<int> start(nv + 1, 0);
+    for (const Raw& r : raw) ++start[r.x + 1];
+    for (int x = 0; x < nv; ++x) start[x + 1] += start[x];
+    std::vector<Raw> sorted(raw.size());
+    std::vector<int> fill(start.begin(), start.end() - 1);
+    for (const Raw& r : raw) sorted[fill[r.x]++] = r;
+    for (int x = 0; x < nv; ++x) {
+      for (int i = start[x] + 1; i < start[x + 1]; ++i) {
+        const Raw r = sorted[i];
+        int j = i - 1;
+        for (; j >= start[x] && sorted[j].c > r.c; --j) sorted[j + 1] = sorted[j];  // strict: stable
+        sorted[j + 1] = r;
+      }
+    }
+    raw.swap(sorted);
+  }
 
   offset_.assign(nv + 1, 0);
   groups_.clear();

@@ -20,11 +20,6 @@
 //   --threads      evaluation threads of each job (default 1: one core per path)
 //   --generations, --population   DE settings (default: the job defaults, 100 and 20)
 //   --pairs        at most N pairs per mesh (default all 12)
-#include "../tests/truth_tables.hpp"
-#include "depath/decode/fast_marching.hpp"
-#include "depath/io/mesh_reader.hpp"
-#include "depath/solve/solve.hpp"
-
 #include <time.h>
 
 #include <algorithm>
@@ -37,12 +32,19 @@
 #include <string>
 #include <vector>
 
+#include "../tests/truth_tables.hpp"
+#include "depath/decode/fast_marching.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/solve/solve.hpp"
+
 namespace {
 
 using namespace depath;
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
 
 // CPU seconds of the whole process (every thread): on a busy machine the wall time of a
 // path also counts the time other programs held the core.
@@ -72,8 +74,8 @@ double median(std::vector<double> v) {
 struct Run {
   std::string mesh;
   int source = 0, target = 0;
-  double error = 0.0;  // length / exact - 1
-  double uncached = 0.0, cached = 0.0;  // wall seconds per path
+  double error = 0.0;                           // length / exact - 1
+  double uncached = 0.0, cached = 0.0;          // wall seconds per path
   double uncached_cpu = 0.0, cached_cpu = 0.0;  // CPU seconds per path
 };
 
@@ -91,13 +93,14 @@ void print_summary(const std::string& method, const std::vector<Run>& runs) {
     cached_cpu.push_back(r.cached_cpu);
     ratio.push_back(r.uncached_cpu / r.cached_cpu);
   }
-  std::printf("%-8s %5zu %6d  %-24s %+7.3f%%  %8.1f %8.1f  %8.1f %8.1f  %8.1f %8.1f  %6.2fx\n", method.c_str(),
-              runs.size(), within,
-              (worst->mesh + " " + std::to_string(worst->source) + "->" + std::to_string(worst->target)).c_str(),
-              100.0 * worst->error, 1e3 * median(uncached), 1e3 * median(cached),
-              1e3 * *std::max_element(uncached.begin(), uncached.end()),
-              1e3 * *std::max_element(cached.begin(), cached.end()), 1e3 * median(uncached_cpu),
-              1e3 * median(cached_cpu), median(ratio));
+  std::printf(
+      "%-8s %5zu %6d  %-24s %+7.3f%%  %8.1f %8.1f  %8.1f %8.1f  %8.1f %8.1f  %6.2fx\n", method.c_str(),
+      runs.size(), within,
+      (worst->mesh + " " + std::to_string(worst->source) + "->" + std::to_string(worst->target)).c_str(),
+      100.0 * worst->error, 1e3 * median(uncached), 1e3 * median(cached),
+      1e3 * *std::max_element(uncached.begin(), uncached.end()),
+      1e3 * *std::max_element(cached.begin(), cached.end()), 1e3 * median(uncached_cpu),
+      1e3 * median(cached_cpu), median(ratio));
 }
 
 }  // namespace
@@ -123,8 +126,9 @@ int main(int argc, char** argv) {
     else if (arg == "--pairs" && has_value)
       max_pairs = std::max(1, std::atoi(argv[++i]));
     else {
-      std::fprintf(stderr, "usage: bench_geodesic_table [--meshes LIST|all] [--methods LIST] [--threads T] "
-                           "[--data DIR] [--generations G] [--population P] [--pairs N]\n");
+      std::fprintf(stderr,
+                   "usage: bench_geodesic_table [--meshes LIST|all] [--methods LIST] [--threads T] "
+                   "[--data DIR] [--generations G] [--population P] [--pairs N]\n");
       return 2;
     }
   }
@@ -136,15 +140,17 @@ int main(int argc, char** argv) {
       if (std::find(meshes.begin(), meshes.end(), p.mesh) == meshes.end()) meshes.push_back(p.mesh);
     }
     if (meshes_arg.empty()) {
-      std::erase_if(meshes, [](const std::string& m) { return m == "cone.off" || m == "terrain_grid30.obj"; });
+      std::erase_if(meshes,
+                    [](const std::string& m) { return m == "cone.off" || m == "terrain_grid30.obj"; });
     } else if (meshes_arg != "all") {
       meshes = split(meshes_arg);
     }
     const std::vector<std::string> methods = split(methods_arg);
 
-    std::printf("threads per job %d; DE population %s, generations %s, refine on; descent: fmm path + refinement\n",
-                threads, population ? std::to_string(population).c_str() : "default",
-                generations ? std::to_string(generations).c_str() : "default");
+    std::printf(
+        "threads per job %d; DE population %s, generations %s, refine on; descent: fmm path + refinement\n",
+        threads, population ? std::to_string(population).c_str() : "default",
+        generations ? std::to_string(generations).c_str() : "default");
     std::printf("%-20s %8s %10s %12s %12s\n", "mesh", "vertices", "parse ms", "stencils ms", "stencils MB");
     std::map<std::string, std::vector<Run>> runs;  // per method
     for (const std::string& name : meshes) {
@@ -154,8 +160,8 @@ int main(int argc, char** argv) {
       t0 = Clock::now();
       const FastMarchingStencils stencils(mesh);  // the server's cached copy
       const double build = seconds_since(t0);
-      std::printf("%-20s %8d %10.1f %12.1f %12.2f\n", name.c_str(), mesh.num_vertices(), 1e3 * parse, 1e3 * build,
-                  double(stencils.memory_bytes()) / (1 << 20));
+      std::printf("%-20s %8d %10.1f %12.1f %12.2f\n", name.c_str(), mesh.num_vertices(), 1e3 * parse,
+                  1e3 * build, double(stencils.memory_bytes()) / (1 << 20));
       std::fflush(stdout);
       int done = 0;
       for (const auto& pair : pairs) {
@@ -183,17 +189,21 @@ int main(int argc, char** argv) {
           const double cached = seconds_since(t0), cached_cpu = cpu_seconds() - c0;
           if (FastMarchingStencils::builds() != builds || reused.energy != fresh.energy ||
               reused.length != fresh.length)
-            throw std::runtime_error("the cached run differs from the uncached one (or built stencils) on " + name);
-          runs[method].push_back({name, pair.source, pair.target, fresh.length / pair.length - 1.0, uncached, cached,
-                                   uncached_cpu, cached_cpu});
+            throw std::runtime_error("the cached run differs from the uncached one (or built stencils) on " +
+                                     name);
+          runs[method].push_back({name, pair.source, pair.target, fresh.length / pair.length - 1.0, uncached,
+                                  cached, uncached_cpu, cached_cpu});
         }
       }
     }
-    std::printf("\nwall and CPU time per path, ms; unc = fresh mesh (stencils built by the job), cache = cached mesh\n");
+    std::printf(
+        "\nwall and CPU time per path, ms; unc = fresh mesh (stencils built by the job), cache = cached "
+        "mesh\n");
     std::printf("%-8s %5s %6s  %-24s %8s  %8s %8s  %8s %8s  %8s %8s  %7s\n", "method", "pairs", "<=0.1%",
-                "worst pair", "worst", "med unc", "med cach", "max unc", "max cach", "cpu unc", "cpu cach", "ratio");
-    std::printf("%-8s %5s %6s  %-24s %8s  %8s %8s  %8s %8s  %8s %8s  %7s\n", "", "", "", "", "", "wall", "wall",
-                "wall", "wall", "median", "median", "cpu u/c");
+                "worst pair", "worst", "med unc", "med cach", "max unc", "max cach", "cpu unc", "cpu cach",
+                "ratio");
+    std::printf("%-8s %5s %6s  %-24s %8s  %8s %8s  %8s %8s  %8s %8s  %7s\n", "", "", "", "", "", "wall",
+                "wall", "wall", "wall", "median", "median", "cpu u/c");
     for (const std::string& method : methods) print_summary(method, runs[method]);
     std::printf("\nper mesh (median CPU ms per path uncached / cached, pairs within 0.1%%, worst):\n");
     for (const std::string& method : methods) {

@@ -2,17 +2,17 @@
 // solve() with the caller's fast-marching stencils (SolveHooks::stencils, what the server's
 // mesh cache passes): no table is built, and the result is bit-identical to a solve() that
 // builds its own, for every method.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
 #include "depath/decode/fast_marching.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/solve/solve.hpp"
 #include "depath/util/error.hpp"
 #include "job_builders.hpp"
 #include "test_support.hpp"
-
-#include <gtest/gtest.h>
-
-#include <string>
-#include <vector>
 
 namespace depath {
 namespace {
@@ -59,7 +59,8 @@ TEST(CachedStencils, SolveWithTheCallersStencilsBuildsNoneAndGivesTheSameResult)
     SCOPED_TRACE(method_name(job.method));
     const uint64_t before = FastMarchingStencils::builds();
     const SolveResult own = solve(mesh, job);
-    EXPECT_EQ(FastMarchingStencils::builds(), before + 1) << "solve() without stencils builds exactly one table";
+    EXPECT_EQ(FastMarchingStencils::builds(), before + 1)
+        << "solve() without stencils builds exactly one table";
     SolveHooks hooks;
     hooks.stencils = &cached;
     const SolveResult first = solve(mesh, job, hooks);

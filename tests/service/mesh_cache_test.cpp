@@ -2,16 +2,16 @@
 // The mesh cache keeps each mesh's fast-marching stencils: the first job on a mesh builds
 // them, later jobs on the cached mesh build none (counted, not timed), the cache counts
 // their memory, and the results are the same as a solve() that builds its own.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
 #include "depath/decode/fast_marching.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/solve/solve.hpp"
 #include "mesh_store.hpp"
 #include "service_test_support.hpp"
-
-#include <gtest/gtest.h>
-
-#include <string>
-#include <vector>
 
 namespace depath::test {
 namespace {
@@ -67,7 +67,8 @@ TEST(ServiceMeshCache, SecondJobOnACachedMeshBuildsNoStencils) {
   const v1::JobResult first = run();
   EXPECT_EQ(FastMarchingStencils::builds(), before + 1);
   const v1::JobResult second = run();
-  EXPECT_EQ(FastMarchingStencils::builds(), before + 1) << "the second job rebuilt the cached mesh's stencils";
+  EXPECT_EQ(FastMarchingStencils::builds(), before + 1)
+      << "the second job rebuilt the cached mesh's stencils";
 
   const Mesh mesh = load_mesh_from_bytes(obj, "obj", "grid");
   const SolveResult local = solve(mesh, wire::job_from_proto(spec));
@@ -86,7 +87,8 @@ TEST(ServiceMeshCache, SecondJobOnACachedMeshBuildsNoStencils) {
   v1::MeshInfo info;
   auto ctx = ts.context();
   ASSERT_TRUE(ts.meshes().GetMesh(ctx.get(), get, &info).ok());
-  EXPECT_GT(info.memory_bytes(), wire::mesh_memory_bytes(mesh)) << "the stencils are not counted in the cache";
+  EXPECT_GT(info.memory_bytes(), wire::mesh_memory_bytes(mesh))
+      << "the stencils are not counted in the cache";
 }
 
 }  // namespace

@@ -603,6 +603,7 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   std::string error;
   std::string stop_reason;
   try {
+    hooks.stencils = &mesh_lease->stencils();  // kept with the cached mesh: built by its first job only
     SolveResult r = solve(mesh, spec, hooks);
     if (metrics_ && r.evaluations > counted_evaluations)  // evaluations after the last report (refinement)
       metrics_->job_progress(r.evaluations - counted_evaluations, 0, -1);

@@ -17,6 +17,11 @@ ServiceError not_found(const std::string& id) {
 
 MeshLease::~MeshLease() { store_->release(record_); }
 
+const FastMarchingStencils& MeshLease::stencils() {
+  if (!stencils_) stencils_ = store_->stencils_of(*record_);
+  return *stencils_;
+}
+
 MeshStore::MeshStore(uint64_t budget_bytes, JobStore& store, Log& log, ParseLimits parse)
     : budget_(budget_bytes), store_(store), log_(log), parse_limits_(parse) {}
 
@@ -259,6 +264,25 @@ void MeshStore::release(const std::shared_ptr<Record>& record) {
   --record->pins;
   // A mesh kept over budget only because a job held it may go now.
   if (record->pins == 0 && bytes_ > budget_) evict_locked("");
+}
+
+std::shared_ptr<const FastMarchingStencils> MeshStore::stencils_of(Record& record) {
+  std::lock_guard build(record.stencil_build);
+  {
+    std::lock_guard lock(mutex_);
+    if (record.stencils) return record.stencils;
+  }
+  auto built = std::make_shared<const FastMarchingStencils>(*record.mesh);  // slow part, outside the lock
+  std::lock_guard lock(mutex_);
+  record.stencils = built;
+  ++stats_.stencil_builds;
+  const uint64_t extra = built->memory_bytes();
+  record.memory_bytes += extra;
+  if (record.in_cache) {  // an evicted record (kept by its jobs) is no longer counted
+    bytes_ += extra;
+    evict_locked(record.id);
+  }
+  return built;
 }
 
 uint64_t MeshStore::cached_bytes() {

@@ -5,6 +5,7 @@
 // uploaded the mesh).
 #pragma once
 
+#include "depath/decode/fast_marching.hpp"
 #include "depath/mesh/mesh.hpp"
 #include "depath/v1/mesh.pb.h"
 #include "depath/wire/mesh.hpp"
@@ -30,8 +31,12 @@ class MeshStore;
 struct MeshRecord {
   std::string id, name, format;
   uint64_t size_bytes = 0;
-  uint64_t memory_bytes = 0;
+  uint64_t memory_bytes = 0;  ///< the mesh's, plus its stencils' once built
   std::shared_ptr<const Mesh> mesh;
+  /// The mesh's fast-marching stencils, built by the first job that runs on it and kept
+  /// for the next ones (null until then).
+  std::shared_ptr<const FastMarchingStencils> stencils;
+  std::mutex stencil_build;  ///< held while building them: one build per mesh, others wait
   v1::MeshInfo info;  // counts, bounding box, warnings
   int pins = 0;
   bool in_cache = false;
@@ -46,6 +51,9 @@ class MeshLease {
   MeshLease& operator=(const MeshLease&) = delete;
   const Mesh& mesh() const { return *mesh_; }
   const std::string& id() const { return id_; }
+  /// The mesh's fast-marching stencils (built on the first call for this mesh, then kept
+  /// with it in the cache and counted in its memory); valid while the lease lives.
+  const FastMarchingStencils& stencils();
 
  private:
   friend class MeshStore;
@@ -55,6 +63,7 @@ class MeshLease {
   std::shared_ptr<MeshRecord> record_;
   std::shared_ptr<const Mesh> mesh_;
   std::string id_;
+  std::shared_ptr<const FastMarchingStencils> stencils_;
 };
 
 /// Bounds on parsing (uploads and reloads from the data directory alike).
@@ -70,6 +79,7 @@ struct MeshCacheStats {
   uint64_t hits = 0;       ///< lookups (get, job pins) answered from memory
   uint64_t misses = 0;     ///< lookups that went to the store (reload) or found nothing
   uint64_t evictions = 0;  ///< meshes dropped to stay within the budget
+  uint64_t stencil_builds = 0;  ///< fast-marching stencil tables built for jobs
 };
 
 class MeshStore {
@@ -113,6 +123,7 @@ class MeshStore {
   using Record = MeshRecord;
 
   void release(const std::shared_ptr<Record>& record);
+  std::shared_ptr<const FastMarchingStencils> stencils_of(Record& record);
   std::shared_ptr<Record> insert_locked(std::shared_ptr<Record> record);
   void evict_locked(const std::string& keep);
   v1::MeshInfo info_locked(const Record& r) const;

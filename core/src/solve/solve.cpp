@@ -28,7 +28,10 @@ SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks)
   const auto start = std::chrono::steady_clock::now();
   validate_job_options(mesh, job);
   const std::unique_ptr<Energy> energy = make_energy(mesh, job.energy);
-  const FastMarchingStencils stencils(mesh);
+  std::optional<FastMarchingStencils> own_stencils;
+  if (hooks.stencils != nullptr && &hooks.stencils->mesh() != &mesh)
+    throw Error(ErrorCode::invalid_argument, "the stencils given to solve() belong to another mesh");
+  const FastMarchingStencils& stencils = hooks.stencils ? *hooks.stencils : own_stencils.emplace(mesh);
 
   std::optional<ThreadPool> own_pool;
   ThreadPool* pool = hooks.pool;

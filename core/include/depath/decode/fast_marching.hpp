@@ -22,11 +22,18 @@ namespace depath {
 
 /// Precomputed, density-independent update stencils of a mesh: for each vertex the
 /// triangle updates it takes part in, with obtuse corners split by unfolding (virtual
-/// edges) so that every update is causal. Build once per mesh; share between threads.
+/// edges) so that every update is causal. Build once per mesh; share between threads (a
+/// server keeps them with its cached meshes: building costs up to several full marches).
+/// Holds a reference to the mesh, which must outlive it.
 class FastMarchingStencils {
  public:
   explicit FastMarchingStencils(const Mesh& mesh);
   const Mesh& mesh() const { return mesh_; }
+  /// Heap memory of the tables, in bytes (for cache budgets).
+  uint64_t memory_bytes() const;
+  /// Stencil tables built in this process so far (all threads): lets tests and benchmarks
+  /// check that a cached table spared a rebuild, without a clock.
+  static uint64_t builds();
 
   /// The updates an accepting vertex x triggers, grouped by target c: one straight edge
   /// candidate x -> c per group (shortest |c - x| over the faces, +inf when c-x is no mesh

@@ -23,6 +23,7 @@
 namespace depath {
 
 class ThreadPool;
+class FastMarchingStencils;
 
 /// Final result of a job.
 struct SolveResult {
@@ -49,6 +50,11 @@ struct SolveHooks {
   /// Pool to evaluate on (the server's shared pool). Null: solve() makes one with
   /// job.threads threads.
   ThreadPool* pool = nullptr;
+  /// Fast-marching stencils of this very mesh object (decode/fast_marching.hpp), built once
+  /// and kept by the caller (the server's mesh cache), which keeps them alive for the call.
+  /// Null: solve() builds them, which costs up to several full marches. Results are the same
+  /// either way, bit for bit.
+  const FastMarchingStencils* stencils = nullptr;
   /// Checkpoints of a `de` job (other methods take none), for exact resume elsewhere or
   /// later: checkpoint_due is polled between generations; when true, on_checkpoint gets the
   /// run's whole state as bytes (de/checkpoint.hpp). Both on the solving thread.
@@ -63,7 +69,7 @@ struct SolveHooks {
 };
 
 /// Validates and runs a job. Throws Error (invalid_argument, failed_precondition) for bad
-/// jobs. Results are reproducible: same mesh, job and seed give the same path and energy
+/// jobs, and invalid_argument for hooks.stencils built from another mesh object. Results are reproducible: same mesh, job and seed give the same path and energy
 /// whatever the number of threads.
 SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks = {});
 

@@ -131,6 +131,9 @@ Server::Server(const ServerOptions& options) {
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   builder.AddListeningPort(options.listen, make_server_credentials(options), &impl_->port);
+  // gRPC sets SO_REUSEPORT by default: a second server on a taken port would start and
+  // silently take half the connections. Refuse the port instead.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(options.max_message_bytes);
   builder.SetMaxSendMessageSize(options.max_message_bytes);
   builder.RegisterService(&impl_->mesh_service);
@@ -180,6 +183,7 @@ void Server::start_health_server() {
   const std::string address = impl_->options.health_listen;
   grpc::ServerBuilder builder;
   builder.AddListeningPort(impl_->options.health_listen, grpc::InsecureServerCredentials(), &impl_->health_port);
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   impl_->health_server = builder.BuildAndStart();
   if (!impl_->health_server || impl_->health_port == 0) {
     impl_->server->Shutdown();

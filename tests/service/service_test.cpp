@@ -226,6 +226,20 @@ TEST(ServiceMeshes, QueuedJobsHoldMeshesOnlyWithinTheCacheBudget) {
   std::filesystem::remove_all(dir);
 }
 
+// A port another server holds is refused at start (gRPC would otherwise share it with
+// SO_REUSEPORT and split the connections between the two servers).
+TEST(ServiceStartup, APortInUseIsRefused) {
+  TestServer first;
+  auto options = quiet_options();
+  options.listen = first.address();
+  try {
+    service::Server second(options);
+    ADD_FAILURE() << "a second server started on " << first.address();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot listen"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ServiceJobs, SubmitErrorsUseTheRightCodes) {
   TestServer ts;
   const std::string grid = ts.upload_ok(grid_obj(6));

@@ -192,6 +192,12 @@ std::optional<StoredMesh> JobStore::get_mesh(const std::string& id) {
   return m;
 }
 
+bool JobStore::has_mesh(const std::string& id) {
+  if (!keeps_meshes_) return false;
+  auto s = db_->session();
+  return !s->exec("SELECT 1 FROM meshes WHERE id = $1", {id}).rows.empty();
+}
+
 std::vector<StoredMesh> JobStore::list_meshes() {
   std::vector<StoredMesh> out;
   if (!keeps_meshes_) return out;

@@ -67,6 +67,8 @@ class JobStore {
   // Meshes (no-ops / nothing found when !keeps_meshes()).
   void put_mesh(const StoredMesh& mesh);
   std::optional<StoredMesh> get_mesh(const std::string& id);
+  /// Whether get_mesh would find it, without reading the bytes.
+  bool has_mesh(const std::string& id);
   std::vector<StoredMesh> list_meshes();
   bool delete_mesh(const std::string& id);
 

@@ -161,7 +161,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::SubmitJob(grpc::CallbackServerContext*
                                                     const v1::SubmitJobRequest* request, v1::SubmitJobResponse* reply) {
   auto body = [this, context, request, reply](const std::string& client) {
     try {
-      *reply = ctx_.job_quota.submit(client, [&] { return ctx_.jobs.submit(*request); });
+      *reply = ctx_.jobs.submit(*request, client);
     } catch (...) {
       const grpc::Status s = current_exception_status();
       ctx_.log.info("job.refused", {{"peer", context->peer()}, {"mesh", request->spec().mesh_id()},
@@ -200,7 +200,7 @@ grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::Solve(grpc::CallbackServ
       std::shared_ptr<EventLog> log;
       grpc::Status failed;
       try {
-        const auto reply = ctx_.job_quota.submit(client, [&] { return ctx_.jobs.submit(*request); });
+        const auto reply = ctx_.jobs.submit(*request, client);
         log = ctx_.jobs.events(reply.job_id());
       } catch (...) {
         failed = current_exception_status();
@@ -212,7 +212,7 @@ grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::Solve(grpc::CallbackServ
     return reactor;
   }
   try {
-    const auto reply = ctx_.job_quota.submit(client, [&] { return ctx_.jobs.submit(*request); });
+    const auto reply = ctx_.jobs.submit(*request, client);
     return new WatchReactor(ctx_, ctx_.jobs.events(reply.job_id()), 0);
   } catch (...) {
     return new WatchReactor(ctx_, current_exception_status());

@@ -92,8 +92,7 @@ struct Server::Impl {
         jobs(options, *store, meshes, hub, pool, log, &metrics),
         blocking(o.upload_parsers),
         access(options, log),
-        job_quota(o.max_jobs_per_client, jobs),
-        context{options, meshes, jobs, log, blocking, metrics, access, job_quota},
+        context{options, meshes, jobs, log, blocking, metrics, access},
         mesh_service(context),
         job_service(context) {}
 
@@ -107,7 +106,6 @@ struct Server::Impl {
   JobManager jobs;
   TaskQueue blocking;
   AccessGuard access;
-  ClientJobQuota job_quota;
   ServiceContext context;
   MeshServiceImpl mesh_service;
   JobServiceImpl job_service;

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "access_guard.hpp"
-#include "client_job_quota.hpp"
 #include "job_manager.hpp"
 #include "log.hpp"
 #include "mesh_store.hpp"
@@ -30,7 +29,6 @@ struct ServiceContext {
   TaskQueue& blocking;  ///< for slow work (mesh parsing)
   ServiceMetrics& metrics;
   AccessGuard& access;
-  ClientJobQuota& job_quota;
   std::atomic<bool> shutting_down{false};
   /// Set once a durable server's jobs are handed back at shutdown: watch streams end, after
   /// the events they have not sent yet, with UNAVAILABLE (the client reconnects).

@@ -35,6 +35,7 @@ struct StoredMesh {
 struct JobRecord {
   int64_t number = 0;  ///< submission order
   std::string id, request_id, mesh_id;
+  std::string client;  ///< who submitted it (AccessGuard's identity), for --max-jobs-per-client; set at insert only
   v1::JobSpec spec;
   v1::JobState state = v1::JOB_STATE_QUEUED;
   double created = 0, started = 0, finished = 0;
@@ -47,6 +48,13 @@ struct JobRecord {
   uint64_t last_sequence = 0;  ///< highest stored event sequence
   uint64_t seq_reserved = 0;   ///< highest sequence an owner may have used
   bool has_result = false;
+};
+
+/// insert_job refused the job: its client already has `held` jobs queued or running.
+class ClientQuotaExceeded : public std::runtime_error {
+ public:
+  explicit ClientQuotaExceeded(int64_t held) : std::runtime_error("client job quota"), held(held) {}
+  int64_t held;
 };
 
 enum class CancelOutcome { cancelled_queued, requested, already_final };
@@ -73,8 +81,11 @@ class JobStore {
   bool delete_mesh(const std::string& id);
 
   /// Stores a new queued job and its first event (sequence 1). If its request id is taken
-  /// already, stores nothing and returns the existing job (second = false).
-  std::pair<JobRecord, bool> insert_job(const JobRecord& job, v1::JobEvent queued);
+  /// already, stores nothing and returns the existing job (second = false). With
+  /// `max_client_jobs` > 0 and a job.client, throws ClientQuotaExceeded when that client has
+  /// that many jobs queued or running in the store already: counted in the insert's
+  /// transaction (on PostgreSQL under a lock per client), so the cap holds across replicas.
+  std::pair<JobRecord, bool> insert_job(const JobRecord& job, v1::JobEvent queued, int max_client_jobs = 0);
   std::optional<JobRecord> find_request(const std::string& request_id);
   std::optional<JobRecord> get_job(const std::string& id);
   /// True if the id belonged to a job removed after its TTL.

@@ -31,6 +31,22 @@ grpc::Status run_unary_body(Fn& fn, const std::string& client) {
   return grpc::Status::OK;
 }
 
+/// The reactor of a unary call finished from another thread. Unlike DefaultReactor, its
+/// OnDone tells TSan (grpc_handoff.hpp) that gRPC's clean-up of the call, which destroys the
+/// reply on gRPC's thread right after OnDone, comes after the reply was written.
+class FinishedElsewhere final : public grpc::ServerUnaryReactor {
+ public:
+  void finish(const grpc::Status& status) {
+    grpc_handoff(this);
+    Finish(status);
+  }
+  void OnCancel() override { grpc_reaction(this); }  // the task still finishes the call
+  void OnDone() override {
+    grpc_reaction(this);
+    delete this;
+  }
+};
+
 inline grpc::Status check_call(ServiceContext& ctx, grpc::CallbackServerContext* context, std::string_view method,
                                bool admit, std::string* client) {
   return admit ? ctx.admit(context, method, client) : ctx.authenticate(context, method, client);
@@ -58,19 +74,18 @@ grpc::ServerUnaryReactor* unary(ServiceContext& ctx, grpc::CallbackServerContext
 template <class Fn>
 grpc::ServerUnaryReactor* unary_blocking(ServiceContext& ctx, grpc::CallbackServerContext* context,
                                          std::string_view method, bool admit, Fn fn) {
-  auto* reactor = context->DefaultReactor();
+  auto* reactor = new detail::FinishedElsewhere;
   std::string client;
   grpc::Status status = detail::check_call(ctx, context, method, admit, &client);
   if (status.ok()) status = ctx.park();
   if (!status.ok()) {
-    reactor->Finish(status);
+    reactor->finish(status);
     return reactor;
   }
   ctx.blocking.post([&ctx, reactor, client = std::move(client), fn = std::move(fn)]() mutable {
     const grpc::Status s = detail::run_unary_body(fn, client);
     ctx.unpark();
-    grpc_handoff(reactor);
-    reactor->Finish(s);
+    reactor->finish(s);
   });
   return reactor;
 }

@@ -207,6 +207,10 @@ def case_queued(count=30):
                               8, "--server", s.addr)
                 key = "accepted" if r.returncode == 0 else first_line(r)[:160]
                 outcomes[key] = outcomes.get(key, 0) + 1
+            if s.p.poll() is not None:
+                report("queued (%s)" % label, submits=outcomes, depathd_exited=s.p.returncode,
+                       log=open(s.log).read()[-2000:])
+                continue
             metrics = urllib.request.urlopen(s.http + "/metrics", timeout=60).read().decode()
             mem = next((float(l.split()[-1]) for l in metrics.splitlines()
                         if l.startswith("depath_mesh_cache_bytes ")), None)

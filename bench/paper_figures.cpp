@@ -17,14 +17,6 @@
 //    are compared as ratios.
 //
 // Usage: bench_paper_figures [--threads T] [--only FIG] [--data DIR]
-#include "depath/generators/surfaces.hpp"
-#include "depath/io/mesh_reader.hpp"
-#include "depath/io/vertex_data.hpp"
-#include "depath/mesh/tangent_fields.hpp"
-#include "depath/solve/solve.hpp"
-#include "../tests/angle_job.hpp"
-#include "../tests/random_cases.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -34,6 +26,14 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "../tests/angle_job.hpp"
+#include "../tests/random_cases.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/vertex_data.hpp"
+#include "depath/mesh/tangent_fields.hpp"
+#include "depath/solve/solve.hpp"
 
 #ifndef DEPATH_SHARED_DATA
 #define DEPATH_SHARED_DATA "../shared/data"
@@ -45,7 +45,8 @@ using namespace depath;
 
 int g_threads = 2;
 
-void row(const char* fig, const std::string& what, const std::string& ours, const std::string& paper, double seconds) {
+void row(const char* fig, const std::string& what, const std::string& ours, const std::string& paper,
+         double seconds) {
   std::printf("%-7s %-58s %-30s %-24s %7.2f s\n", fig, what.c_str(), ours.c_str(), paper.c_str(), seconds);
   std::fflush(stdout);
 }
@@ -71,20 +72,13 @@ JobSpec descent_of(JobSpec job) {
   return job;
 }
 
-Mesh square_grid(int n, double half, GridHeight height) {
-  GridOptions o;
-  o.n = n;
-  o.half_size = half;
-  o.height = height;
-  return make_grid(o);
-}
-
 void fig3() {
   const char* paper[2] = {"0.053", "0.062"};
   for (int seed = 1; seed <= 2; ++seed) {
     const test::AngleCase c = test::random_angle_case(test::AngleFamily::contour, seed);
     const SolveResult r = solve(c.mesh, test::angle_job(c, 0.1, 20, 100, g_threads));
-    row("Fig. 3", "contour field, lambda 0.1, " + c.description, "normalized " + fmt("%.4f", test::result_metric(r, "normalized_energy")),
+    row("Fig. 3", "contour field, lambda 0.1, " + c.description,
+        "normalized " + fmt("%.4f", test::result_metric(r, "normalized_energy")),
         std::string("normalized ") + paper[seed - 1], r.seconds);
   }
 }
@@ -101,7 +95,8 @@ void fig4() {
     }
     for (const double lambda : {0.0, 0.1}) {
       const SolveResult r = solve(c->mesh, test::angle_job(*c, lambda, 20, 100, g_threads));
-      row("Fig. 4", "cone, k " + fmt("%.1f", k) + ", lambda " + fmt("%.1f", lambda) + ", " + c->description.substr(7),
+      row("Fig. 4",
+          "cone, k " + fmt("%.1f", k) + ", lambda " + fmt("%.1f", lambda) + ", " + c->description.substr(7),
           "slope error " + fmt("%.4f", test::result_metric(r, "mean_slope_error")) + ", turn " +
               fmt("%.2f", test::total_turning(c->mesh, c->energy, r.path)),
           "(picture only)", r.seconds);
@@ -111,7 +106,7 @@ void fig4() {
 
 void fig5() {
   const int n = 81;
-  const Mesh mesh = square_grid(n, 3.0, GridHeight::peaks);
+  const Mesh mesh = make_grid({.n = n, .half_size = 3.0, .height = GridHeight::peaks});
   const int pairs[2][2] = {{n * 10 + 10, n * 70 + 60}, {n * 20 + 60, n * 60 + 15}};
   const char* paper[2] = {"0.157", "0.227"};
   for (int i = 0; i < 2; ++i) {
@@ -121,8 +116,9 @@ void fig5() {
       job.energy.slope = 0.2;
       job.energy.smoothness = lambda;
       const SolveResult r = solve(mesh, job);
-      row("Fig. 5", "peaks 81x81, k 0.2, " + std::to_string(pairs[i][0]) + " -> " + std::to_string(pairs[i][1]) +
-                        ", lambda " + fmt("%.1f", lambda),
+      row("Fig. 5",
+          "peaks 81x81, k 0.2, " + std::to_string(pairs[i][0]) + " -> " + std::to_string(pairs[i][1]) +
+              ", lambda " + fmt("%.1f", lambda),
           "slope error " + fmt("%.4f", test::result_metric(r, "mean_slope_error")),
           std::string("slope error ") + paper[i], r.seconds);
     }
@@ -130,22 +126,24 @@ void fig5() {
 }
 
 void fig7() {
-  const Mesh mesh = square_grid(41, 1.0, GridHeight::flat);
+  const Mesh mesh = make_grid({.n = 41, .half_size = 1.0, .height = GridHeight::flat});
   JobSpec job = de_refine(41 * 8 + 29, 41 * 8 + 11, 20, 300);
   job.energy.kind = EnergyKind::vector_field;
   job.energy.field = rotation_field(mesh, Vec3::Zero(), 2);
   const SolveResult de = solve(mesh, job);
   const SolveResult descent = solve(mesh, descent_of(job));
   row("Fig. 7", "rotation field 41x41: de --refine (300 gen.) | descent",
-      fmt2("%.4f | %.4f", test::result_metric(de, "normalized_energy"), test::result_metric(descent, "normalized_energy")),
+      fmt2("%.4f | %.4f", test::result_metric(de, "normalized_energy"),
+           test::result_metric(descent, "normalized_energy")),
       "de optimal, descent stuck", de.seconds + descent.seconds);
 }
 
 void fig8() {
   for (const int n : {41, 81, 121}) {
-    const Mesh mesh = square_grid(n, 1.0, GridHeight::flat);
+    const Mesh mesh = make_grid({.n = n, .half_size = 1.0, .height = GridHeight::flat});
     auto vertex = [n](double x, double y) {
-      return static_cast<int>(std::lround((y + 1) / 2 * (n - 1))) * n + static_cast<int>(std::lround((x + 1) / 2 * (n - 1)));
+      return static_cast<int>(std::lround((y + 1) / 2 * (n - 1))) * n +
+             static_cast<int>(std::lround((x + 1) / 2 * (n - 1)));
     };
     JobSpec job = de_refine(vertex(-0.75, 0.75), vertex(0.75, 0.15), 20, 300);
     job.energy.kind = EnergyKind::vector_field;
@@ -240,9 +238,12 @@ int main(int argc, char** argv) {
   std::string only, data = DEPATH_SHARED_DATA;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i];
-    if (a == "--threads") g_threads = std::atoi(argv[i + 1]);
-    else if (a == "--only") only = argv[i + 1];
-    else if (a == "--data") data = argv[i + 1];
+    if (a == "--threads")
+      g_threads = std::atoi(argv[i + 1]);
+    else if (a == "--only")
+      only = argv[i + 1];
+    else if (a == "--data")
+      data = argv[i + 1];
     else {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
       return 2;

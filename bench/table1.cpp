@@ -123,14 +123,6 @@ int grid_side(const PaperRow& row) {
   return n;
 }
 
-Mesh grid(int n, GridHeight height, double half_size) {
-  GridOptions o;
-  o.n = n;
-  o.height = height;
-  o.half_size = half_size;
-  return make_grid(o);
-}
-
 // Grid vertex nearest to plane point (x, y) of a grid over [-h, h]^2.
 int grid_vertex(int n, double h, double x, double y) {
   const auto index = [&](double u) { return static_cast<int>(std::lround((u + h) / (2 * h) * (n - 1))); };
@@ -169,7 +161,8 @@ Experiment make_experiment(const PaperRow& row, const std::string& data) {
   const std::string& c = row.category;
   if (c == "simple converge") {
     const int n = grid_side(row);
-    Experiment e{"grid " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::flat, 3.0), base};
+    Experiment e{"grid " + std::to_string(n) + "x" + std::to_string(n),
+                 make_grid({.n = n, .half_size = 3.0, .height = GridHeight::flat}), base};
     e.job.source = (n / 2) * n + n / 8;
     e.job.target = (n / 3) * n + (7 * n) / 8;
     e.job.energy.kind = EnergyKind::vector_field;
@@ -178,7 +171,8 @@ Experiment make_experiment(const PaperRow& row, const std::string& data) {
   }
   if (c == "simple rotation") {
     const int n = grid_side(row);
-    Experiment e{"grid " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::flat, 1.0), base};
+    Experiment e{"grid " + std::to_string(n) + "x" + std::to_string(n),
+                 make_grid({.n = n, .half_size = 1.0, .height = GridHeight::flat}), base};
     e.job.source = grid_vertex(n, 1.0, 0.45, -0.6);
     e.job.target = grid_vertex(n, 1.0, -0.45, -0.6);
     e.job.energy.kind = EnergyKind::vector_field;
@@ -187,8 +181,8 @@ Experiment make_experiment(const PaperRow& row, const std::string& data) {
   }
   if (c == "complex 1" || c == "complex 2") {
     const int n = grid_side(row);
-    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0),
-                 base};
+    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n),
+                 make_grid({.n = n, .half_size = 3.0, .height = GridHeight::peaks}), base};
     const bool first = c == "complex 1";
     e.job.source = first ? grid_vertex(n, 3.0, -1.5, -1.5) : grid_vertex(n, 3.0, -2.25, 0.0);
     e.job.target = first ? grid_vertex(n, 3.0, 1.5, 1.5) : grid_vertex(n, 3.0, 2.25, 0.0);
@@ -212,8 +206,8 @@ Experiment make_experiment(const PaperRow& row, const std::string& data) {
   }
   if (c == "peaks") {
     const int n = grid_side(row);
-    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n), grid(n, GridHeight::peaks, 3.0),
-                 base};
+    Experiment e{"peaks " + std::to_string(n) + "x" + std::to_string(n),
+                 make_grid({.n = n, .half_size = 3.0, .height = GridHeight::peaks}), base};
     e.job.source = grid_vertex(n, 3.0, -2.25, -2.25);
     e.job.target = grid_vertex(n, 3.0, 2.25, 1.5);
     e.job.energy.kind = EnergyKind::constant_slope;
@@ -379,7 +373,7 @@ void quality_section(const std::string& data, int threads, bool quick) {
 // (15,625 vertices) with a bump at the centre, 30 agents.
 void scaling_section(const std::string& strategy) {
   const int n = 125;
-  const Mesh mesh = grid(n, GridHeight::flat, 3.0);
+  const Mesh mesh = make_grid({.n = n, .half_size = 3.0, .height = GridHeight::flat});
   JobSpec job = test::de_job(0, n * n - 1, 30, 8, /*seed=*/1, /*threads=*/0);
   job.de.strategy = strategy;
   job.energy.density.resize(mesh.num_vertices());

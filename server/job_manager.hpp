@@ -68,6 +68,8 @@ class JobManager {
 
   int running_jobs();
   int queued_jobs();
+  /// Jobs in the store per state; throws StoreError when the store is unreachable.
+  std::map<v1::JobState, int64_t> jobs_by_state() { return store_.count_by_state(); }
   /// True when the store answers a query (readiness).
   bool store_reachable();
   const std::string& replica_id() const { return replica_; }

@@ -1,6 +1,18 @@
 // SPDX-License-Identifier: MIT
 #include "server.hpp"
 
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/security/server_credentials.h>
+#include <grpcpp/server.h>
+#include <grpcpp/server_builder.h>
+
+#include <condition_variable>
+#include <filesystem>
+#include <map>
+#include <mutex>
+#include <thread>
+
 #include "depath/util/error.hpp"
 #include "depath/util/thread_pool.hpp"
 #include "depath/wire/wire.hpp"
@@ -18,18 +30,6 @@
 #include "store/job_store.hpp"
 #include "task_queue.hpp"
 #include "tls_credentials.hpp"
-
-#include <grpcpp/ext/proto_server_reflection_plugin.h>
-#include <grpcpp/health_check_service_interface.h>
-#include <grpcpp/security/server_credentials.h>
-#include <grpcpp/server.h>
-#include <grpcpp/server_builder.h>
-
-#include <condition_variable>
-#include <map>
-#include <filesystem>
-#include <mutex>
-#include <thread>
 
 namespace depath::service {
 
@@ -49,13 +49,16 @@ void check_options(const ServerOptions& o) {
   for (const auto& t : o.auth_tokens) {
     if (t.empty()) bad("an auth token is empty (--auth-token, --auth-token-file, DEPATHD_AUTH_TOKENS)");
     for (const unsigned char c : t) {
-      if (c <= ' ' || c >= 0x7f) bad("an auth token contains a space or a non-printable character (tokens are sent as HTTP/2 header values)");
+      if (c <= ' ' || c >= 0x7f)
+        bad("an auth token contains a space or a non-printable character (tokens are sent as HTTP/2 header "
+            "values)");
     }
   }
   if (!(o.auth_failure_burst >= 1)) bad("--auth-failure-burst must be >= 1");
   if (!(o.auth_failure_rate > 0)) bad("--auth-failure-rate must be > 0");
   if (o.max_jobs_per_client < 0) bad("--max-jobs-per-client must be >= 0 (0 = no cap)");
-  if (!(o.max_requests_per_second_per_client >= 0)) bad("--max-requests-per-second-per-client must be >= 0 (0 = no cap)");
+  if (!(o.max_requests_per_second_per_client >= 0))
+    bad("--max-requests-per-second-per-client must be >= 0 (0 = no cap)");
   if (o.max_concurrent_uploads < 1) bad("--max-concurrent-uploads must be >= 1");
 }
 
@@ -88,7 +91,8 @@ struct Server::Impl {
         // worker than the threads asked for.
         pool(std::max(0, pool_workers(o) - 1)),
         store(open_store(o)),
-        meshes(o.mesh_cache_bytes, *store, log, ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
+        meshes(o.mesh_cache_bytes, *store, log,
+               ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
         jobs(options, *store, meshes, hub, pool, log, &metrics),
         blocking(o.upload_parsers),
         access(options, log),
@@ -142,7 +146,8 @@ Server::Server(const ServerOptions& options) {
   impl_->server = builder.BuildAndStart();
   if (!impl_->server || impl_->port == 0) {
     impl_.reset();
-    throw Error(ErrorCode::invalid_argument, "cannot listen on '" + options.listen + "' (address in use or invalid?)");
+    throw Error(ErrorCode::invalid_argument,
+                "cannot listen on '" + options.listen + "' (address in use or invalid?)");
   }
   add_state_collector(*impl_);
   if (!options.http_listen.empty()) {
@@ -169,8 +174,9 @@ Server::Server(const ServerOptions& options) {
                                      {"checkpoint_seconds", options.checkpoint_seconds},
                                      {"lease_seconds", options.lease_seconds},
                                      {"auth_tokens", options.auth_tokens.size()},
-                                     {"tls", options.tls_cert.empty() ? "off"
-                                             : options.tls_client_ca.empty() ? "tls" : "mutual"},
+                                     {"tls", options.tls_cert.empty()        ? "off"
+                                             : options.tls_client_ca.empty() ? "tls"
+                                                                             : "mutual"},
                                      {"health_port", impl_->health_port}});
 }
 
@@ -180,13 +186,15 @@ void Server::start_health_server() {
   // SERVING / NOT_SERVING.
   const std::string address = impl_->options.health_listen;
   grpc::ServerBuilder builder;
-  builder.AddListeningPort(impl_->options.health_listen, grpc::InsecureServerCredentials(), &impl_->health_port);
+  builder.AddListeningPort(impl_->options.health_listen, grpc::InsecureServerCredentials(),
+                           &impl_->health_port);
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   impl_->health_server = builder.BuildAndStart();
   if (!impl_->health_server || impl_->health_port == 0) {
     impl_->server->Shutdown();
     impl_.reset();
-    throw Error(ErrorCode::invalid_argument, "cannot listen on --health-listen '" + address + "' (address in use or invalid?)");
+    throw Error(ErrorCode::invalid_argument,
+                "cannot listen on --health-listen '" + address + "' (address in use or invalid?)");
   }
 }
 
@@ -203,16 +211,17 @@ int Server::http_port() const { return impl_->http ? impl_->http->port() : 0; }
 void Server::add_state_collector(Impl& s) {
   // Gauges of live state, read at each scrape of /metrics.
   s.metrics.registry().add_collector([&s](MetricsRegistry& r) {
-    std::map<std::string, int> by_state;
-    for (const char* state : {"queued", "running", "succeeded", "failed", "cancelled"}) by_state[state] = 0;
+    std::map<v1::JobState, int64_t> by_state;
     try {
-      const v1::ListJobsResponse list = s.jobs.list({});
-      for (const auto& job : list.jobs()) ++by_state[wire::state_name(job.state())];
+      by_state = s.jobs.jobs_by_state();
     } catch (const std::exception&) {
       // the store is unreachable: /readyz says so; keep the last values
       return;
     }
-    for (const auto& [state, n] : by_state) r.set("depath_jobs", {{"state", state}}, n);
+    for (const v1::JobState state : {v1::JOB_STATE_QUEUED, v1::JOB_STATE_RUNNING, v1::JOB_STATE_SUCCEEDED,
+                                     v1::JOB_STATE_FAILED, v1::JOB_STATE_CANCELLED}) {
+      r.set("depath_jobs", {{"state", wire::state_name(state)}}, static_cast<double>(by_state[state]));
+    }
     r.set("depath_queue_depth", {}, s.jobs.queued_jobs());
     r.set("depath_running_jobs", {}, s.jobs.running_jobs());
     const MeshCacheStats c = s.meshes.cache_stats();
@@ -236,10 +245,10 @@ bool Server::shutdown() {
     s.shutdown_started = true;
   }
   const auto start = std::chrono::steady_clock::now();
-  const auto deadline =
-      start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                  std::chrono::duration<double>(s.options.shutdown_timeout_seconds));
-  s.log.info("server.shutting_down", {{"running_jobs", s.jobs.running_jobs()}, {"queued_jobs", s.jobs.queued_jobs()}});
+  const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                    std::chrono::duration<double>(s.options.shutdown_timeout_seconds));
+  s.log.info("server.shutting_down",
+             {{"running_jobs", s.jobs.running_jobs()}, {"queued_jobs", s.jobs.queued_jobs()}});
   s.server->GetHealthCheckService()->SetServingStatus(false);
   if (s.health_server) s.health_server->GetHealthCheckService()->SetServingStatus(false);
   s.context.shutting_down.store(true);
@@ -249,17 +258,20 @@ bool Server::shutdown() {
     s.context.release_watchers.store(true);
     s.jobs.poke_watchers();
   }
-  s.hub.flush();  // watchers now have their final events queued
+  s.hub.flush();               // watchers now have their final events queued
   if (s.http) s.http->stop();  // event streams end after the events they have
   // Give open streams the rest of the budget (at least a moment) to deliver them.
-  const auto grpc_deadline = std::max(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(500));
+  const auto grpc_deadline =
+      std::max(deadline, std::chrono::steady_clock::now() + std::chrono::milliseconds(500));
   s.server->Shutdown(std::chrono::system_clock::now() +
-                     std::chrono::duration_cast<std::chrono::system_clock::duration>(grpc_deadline -
-                                                                                     std::chrono::steady_clock::now()));
+                     std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                         grpc_deadline - std::chrono::steady_clock::now()));
   if (s.health_server) s.health_server->Shutdown(std::chrono::system_clock::now());
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (clean) s.log.info("server.stopped", {{"seconds", seconds}});
-  else s.log.warn("server.stopped", {{"seconds", seconds}, {"reason", "running jobs did not stop in time"}});
+  if (clean)
+    s.log.info("server.stopped", {{"seconds", seconds}});
+  else
+    s.log.warn("server.stopped", {{"seconds", seconds}, {"reason", "running jobs did not stop in time"}});
   {
     std::lock_guard lock(s.mutex);
     s.shutdown_done = true;

@@ -11,10 +11,11 @@
 
 namespace depath::test {
 
-/// DE sizes for the random angle cases: small on purpose, the seeding and the refinement
-/// must do the work.
-inline constexpr int kAnglePopulation = 16;
-inline constexpr int kAngleGenerations = 60;
+/// DE sizes for the random angle cases: small on purpose, the guide curves (traced field /
+/// constant-slope lines, solve/methods/guide.hpp), the seeding and the refinement must do
+/// the work; the refinement takes most of a solve's time.
+inline constexpr int kAnglePopulation = 8;
+inline constexpr int kAngleGenerations = 20;
 
 /// `de --refine` from `source` to `target`: SHADE seeded with the problem, seed 1 (the
 /// energy left at its default; also bench/paper_figures' job).

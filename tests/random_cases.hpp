@@ -10,6 +10,8 @@
 //    from saddles) (RK4 on the rotated gradient of the analytic height); t is the grid vertex
 //    closest to that contour within the traced stretch, nudged onto it (moved in the plane to
 //    the contour point, height set to the analytic height there, at most 0.3 spacings).
+//    The contour's radius of curvature between s and t is at least kMinContourRadius
+//    spacings, so that the mesh resolves it (a path is straight inside each face).
 //  - spiral: an open cone with the apex up (random generator slope h / R, rings, sectors,
 //    height axis), target slope k and a turn count up to 1.5; s is a ring vertex at angle 0,
 //    the analytic constant-slope spiral r = r_s exp(-(R / L) phi cot(alpha)),
@@ -40,6 +42,7 @@ struct AngleCase {
   int target = -1;
   std::string description;
   double nudge = 0.0;  ///< how far t was moved onto the analytic curve (mesh units)
+  double resolution = 0.0;  ///< contour: largest curvature x grid spacing between s and t
 };
 
 /// splitmix64: a small, portable, seeded generator.
@@ -82,6 +85,22 @@ inline void terrain_gradient(const std::vector<Gaussian>& g, double u, double v,
   }
 }
 
+// Curvature of the contour line through (u, v): (h_uu h_v^2 - 2 h_uv h_u h_v + h_vv h_u^2) / |grad h|^3.
+inline double contour_curvature(const std::vector<Gaussian>& g, double u, double v) {
+  double hu = 0, hv = 0, huu = 0, huv = 0, hvv = 0;
+  for (const auto& b : g) {
+    const double s2 = b.sigma * b.sigma, du = u - b.cu, dv = v - b.cv;
+    const double e = b.amplitude * std::exp(-(du * du + dv * dv) / (2 * s2));
+    hu -= e * du / s2;
+    hv -= e * dv / s2;
+    huu += e * (du * du / s2 - 1) / s2;
+    hvv += e * (dv * dv / s2 - 1) / s2;
+    huv += e * du * dv / (s2 * s2);
+  }
+  const double g2 = hu * hu + hv * hv;
+  return std::abs(huu * hv * hv - 2 * huv * hu * hv + hvv * hu * hu) / (g2 * std::sqrt(g2));
+}
+
 inline Vec3 place(int up, double u, double v, double h) {
   Vec3 p;
   p[(up + 1) % 3] = u;
@@ -89,6 +108,8 @@ inline Vec3 place(int up, double u, double v, double h) {
   p[up] = h;
   return p;
 }
+
+inline constexpr double kMinContourRadius = 7.0;  // grid spacings (see try_contour_case)
 
 inline std::optional<AngleCase> try_contour_case(CaseRandom& rng) {
   const int n = 31 + rng.below(21);
@@ -166,7 +187,7 @@ inline std::optional<AngleCase> try_contour_case(CaseRandom& rng) {
   if (length < 12 * spacing) return std::nullopt;
   // t: over the last 60% of the stretch, the point whose nearest grid vertex is closest.
   int best_vertex = -1;
-  double best_d = 1e300, best_u = 0, best_v = 0;
+  double best_d = 1e300, best_u = 0, best_v = 0, best_length = 0;
   for (const auto& q : trace) {
     if (q[2] < 0.4 * length || q[2] < 10 * spacing) continue;
     const int i = static_cast<int>(std::lround((q[0] + half) / spacing));
@@ -179,11 +200,22 @@ inline std::optional<AngleCase> try_contour_case(CaseRandom& rng) {
       best_vertex = w;
       best_u = q[0];
       best_v = q[1];
+      best_length = q[2];
     }
   }
   if (best_vertex < 0 || best_vertex == s || best_d > 0.3 * spacing) return std::nullopt;
   p[best_vertex] = place(up, best_u, best_v, terrain_height(bumps, best_u, best_v));
-  AngleCase c{Mesh(std::move(p), flat.faces()), {}, s, best_vertex, {}, best_d};
+  // The grid must resolve the contour between s and t: its radius of curvature at least
+  // kMinContourRadius spacings. A path on the mesh is straight inside each face, so even
+  // the chords of the mesh's own field line deviate from the field by a mean angle of
+  // about curvature x chord / 4 (the field turns along the chord); on the tightest
+  // contours (radius 2-5 spacings, near a bump's top) that floor alone is 0.023-0.035, so
+  // no path of the mesh meets 0.02 there (measured: guide_paths, then the refinement).
+  double resolution = 0.0;
+  for (const auto& q : trace)
+    if (q[2] <= best_length) resolution = std::max(resolution, contour_curvature(bumps, q[0], q[1]) * spacing);
+  if (resolution > 1.0 / kMinContourRadius) return std::nullopt;
+  AngleCase c{Mesh(std::move(p), flat.faces()), {}, s, best_vertex, {}, best_d, resolution};
   c.energy.kind = EnergyKind::vector_field;
   c.energy.field_from_height = true;
   c.energy.rotate_degrees = 90.0;

@@ -313,6 +313,15 @@ int64_t JobStore::count_queued() {
                      .at(0));
 }
 
+std::map<v1::JobState, int64_t> JobStore::count_by_state() {
+  auto s = db_->session();
+  std::map<v1::JobState, int64_t> out;
+  for (const auto& row : s->exec("SELECT state, COUNT(*) FROM jobs GROUP BY state", {}).rows) {
+    out[static_cast<v1::JobState>(sql_int(row.at(0)))] = sql_int(row.at(1));
+  }
+  return out;
+}
+
 int JobStore::queue_position(int64_t number) {
   auto s = db_->session();
   return static_cast<int>(sql_int(s->exec("SELECT COUNT(*) FROM jobs WHERE state = $1 AND number <= $2",
@@ -530,11 +539,12 @@ int JobStore::expire(double before, int64_t keep_at_most) {
   const int64_t finished = sql_int(s->exec("SELECT COUNT(*) FROM jobs WHERE state IN (3, 4, 5)").rows[0][0]);
   const int64_t over = finished - static_cast<int64_t>(rows.size()) - std::max<int64_t>(keep_at_most, 0);
   if (over > 0) {
-    auto oldest = s->exec(
-                       "SELECT id FROM jobs WHERE state IN (3, 4, 5) AND finished >= $1 ORDER BY finished, number "
-                       "LIMIT $2",
-                       {before, std::min<int64_t>(over, 1000)})
-                      .rows;
+    auto oldest =
+        s->exec(
+             "SELECT id FROM jobs WHERE state IN (3, 4, 5) AND finished >= $1 ORDER BY finished, number "
+             "LIMIT $2",
+             {before, std::min<int64_t>(over, 1000)})
+            .rows;
     rows.insert(rows.end(), oldest.begin(), oldest.end());
   }
   const double now = now_unix();

@@ -16,6 +16,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -92,6 +93,8 @@ class JobStore {
   bool expired(const std::string& id);
   std::vector<JobRecord> list_jobs(const std::string& mesh_id);
   int64_t count_queued();
+  /// Jobs in the store per state (one aggregate query, for /metrics); states with none are absent.
+  std::map<v1::JobState, int64_t> count_by_state();
   /// 1-based position among queued jobs (0 if not queued).
   int queue_position(int64_t number);
 

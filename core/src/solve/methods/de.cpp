@@ -183,7 +183,7 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   // (guide.hpp). Its decoded path always joins the refinement starts; with seeding it is
   // the seed point when it beats the problem's own density.
   // The closest approach's channel seeds; the candidate whose decoded path costs least
-  // joins the refinement starts too.
+  // joins the refinement starts too, as do the traced curves themselves (guide_paths).
   SurfacePath guide_path, cheapest_guide_path;
   double guide_search_energy = std::numeric_limits<double>::infinity();
   std::vector<double> guide;
@@ -282,6 +282,9 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
   outcome.energy = rank_without_penalty ? ctx.energy.evaluate(outcome.path) : outcome_search_energy;
   if (job.refine) {
     outcome.refine_starts = refine_starts(ctx, fmm_search_energy, agent_paths, agent_energies, outcome_search_energy);
+    for (SurfacePath& path : guide_paths(ctx.mesh, ctx.energy, job.source, job.target)) {
+      outcome.refine_starts.push_back(std::move(path));
+    }
     if (!cheapest_guide_path.empty()) outcome.refine_starts.push_back(std::move(cheapest_guide_path));
     if (!guide_path.empty()) outcome.refine_starts.push_back(std::move(guide_path));
   }

@@ -5,11 +5,14 @@
 // the one passing closest to the target becomes a channel of low density, whose decoded
 // path follows the curve and then turns off to the target. It seeds the search (a winding
 // zero-energy path, e.g. a spiral over more than a turn, is out of reach of perturbations
-// of the uniform density) and starts the refinement.
+// of the uniform density) and starts the refinement. The traced curves themselves, cut
+// in a face holding the other end (traced from either end), are refinement starts too
+// (guide_paths).
 #pragma once
 
 #include "depath/energy/energy.hpp"
 #include "depath/mesh/mesh.hpp"
+#include "depath/mesh/surface_path.hpp"
 
 #include <vector>
 
@@ -21,5 +24,15 @@ namespace depath {
 /// closest approach first. Empty if the energy prefers no direction at the
 /// source (geodesic energies). Deterministic; cost O(V x curve points) per candidate.
 std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target);
+
+/// Guide paths, as surface paths for the refinement to start from: from each end, the
+/// traced curves (integrated inside every face, chords between their edge crossings) cut
+/// where they pass through a face holding the other end, then straight to it; per end
+/// the cut of least segment energy (up to 2 paths, source to target; none for energies
+/// without preferred lines). A decoded channel is a fast-marching geodesic within 1.5
+/// edges of the curve, whose angle energy the refinement's local moves often cannot bring
+/// down to the curve's own (the integrand |angle| is kinked at 0); these start on it.
+/// Deterministic; cost O(curve points) per traced direction.
+std::vector<SurfacePath> guide_paths(const Mesh& mesh, const Energy& energy, int source, int target);
 
 }  // namespace depath

@@ -35,7 +35,11 @@ KITTEN = os.path.join(SHARED, "kitten.off")
 
 
 class Server:
+    started = 0
+
     def __init__(self, name, args, http=False):
+        Server.started += 1
+        name = "%s-%d" % (name, Server.started)  # fresh port files: a stale one names a stopped server
         self.name = name
         pf = os.path.join(TMP, name + ".port")
         hf = os.path.join(TMP, name + ".http")

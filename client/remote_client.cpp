@@ -50,6 +50,8 @@ bool retryable(grpc::StatusCode code) {
 }
 
 constexpr size_t kChunkBytes = 1 << 20;
+/// Deadline of an upload, and of a mesh lookup once connected (the server may parse the mesh).
+constexpr double kMeshLookupSeconds = 600;
 
 /// "//authority/rest" -> "rest"; anything else unchanged.
 std::string strip_authority(const std::string& s) {
@@ -265,7 +267,9 @@ v1::MeshInfo RemoteClient::upload(const std::string& path, const std::string& fo
   const std::string bytes = read_file_bytes(path);
   auto ctx = context();
   ctx->set_wait_for_ready(true);
-  ctx->set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(600));
+  ctx->set_deadline(std::chrono::system_clock::now() +
+                    std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                        std::chrono::duration<double>(kMeshLookupSeconds)));
   v1::MeshInfo info;
   auto writer = meshes_->UploadMesh(ctx.get(), &info);
   v1::UploadMeshRequest request;
@@ -286,7 +290,13 @@ v1::MeshInfo RemoteClient::upload(const std::string& path, const std::string& fo
 
 v1::MeshInfo RemoteClient::ensure_mesh(const std::string& path, bool* uploaded, const std::string& format) {
   const std::string id = wire::sha256_hex(read_file_bytes(path));
-  auto ctx = context(options_.connect_timeout_seconds);
+  // --connect-timeout bounds the wait for the server, not the lookup: a mesh the server stored
+  // before a restart is reloaded (parsed) for it, which takes as long as an upload's parse.
+  const bool connected = channel_->WaitForConnected(
+      std::chrono::system_clock::now() +
+      std::chrono::duration_cast<std::chrono::system_clock::duration>(
+          std::chrono::duration<double>(options_.connect_timeout_seconds)));
+  auto ctx = context(connected ? kMeshLookupSeconds : options_.connect_timeout_seconds);
   ctx->set_wait_for_ready(true);
   v1::GetMeshRequest request;
   request.set_id(id);

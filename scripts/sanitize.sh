@@ -22,7 +22,10 @@ cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDEPATH
 cmake --build "$build" -j "${DEPATH_JOBS:-$(nproc)}"
 export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1" UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 export LSAN_OPTIONS="suppressions=$root/scripts/lsan.supp"  # third-party leaks, each explained there
-export TSAN_OPTIONS="suppressions=$root/scripts/tsan.supp:halt_on_error=1"
+# history_size=7: TSan keeps enough history to restore both stacks of a report, so that the
+# suppressions (which match frames) apply; with the default, a gRPC-internal access whose
+# stack was lost is reported unsuppressed.
+export TSAN_OPTIONS="suppressions=$root/scripts/tsan.supp:halt_on_error=1:history_size=7"
 cd "$build"
 if [ "$kind" = thread ]; then
   ctest --output-on-failure -j "${DEPATH_JOBS:-$(nproc)}" -E "^deploy|^web_view_browser" --timeout 1800

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <future>
 #include <random>
+#include <tuple>
 
 #include "depath/de/checkpoint.hpp"
 #include "depath/util/error.hpp"
@@ -151,7 +152,7 @@ v1::JobInfo JobManager::info_of(const JobRecord& job, int queue_position) {
   return info;
 }
 
-v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request) {
+v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request, const std::string& client) {
   auto existing_reply = [&](const JobRecord& job) {
     if (job.spec.SerializeAsString() != request.spec().SerializeAsString()) {
       throw ServiceError(grpc::StatusCode::ALREADY_EXISTS,
@@ -202,7 +203,18 @@ v1::SubmitJobResponse JobManager::submit(const v1::SubmitJobRequest& request) {
   job.mesh_id = request.spec().mesh_id();
   job.spec = request.spec();
   job.created = now_unix();
-  auto [stored, inserted] = store_.insert_job(job, state_event(v1::JOB_STATE_QUEUED, 0, "queued"));
+  job.client = client;
+  JobRecord stored;
+  bool inserted = false;
+  try {
+    std::tie(stored, inserted) =
+        store_.insert_job(job, state_event(v1::JOB_STATE_QUEUED, 0, "queued"), options_.max_jobs_per_client);
+  } catch (const ClientQuotaExceeded& e) {
+    throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED,
+                       "client " + client + " already has " + std::to_string(e.held) +
+                           " jobs queued or running, the limit per client (--max-jobs-per-client " +
+                           std::to_string(options_.max_jobs_per_client) + "); wait for one to finish");
+  }
   if (!inserted) return existing_reply(stored);
   if (!store_.keeps_meshes()) {
     std::lock_guard lock(mutex_);

@@ -46,7 +46,10 @@ class JobManager {
   JobManager& operator=(const JobManager&) = delete;
 
   /// Validates and queues a job. Throws ServiceError / depath::Error (see job.proto).
-  v1::SubmitJobResponse submit(const v1::SubmitJobRequest& request);
+  /// `client` (AccessGuard's identity of the caller) is stored with the job: with
+  /// --max-jobs-per-client, RESOURCE_EXHAUSTED when it has that many jobs queued or running
+  /// in the store, on whichever replicas share it.
+  v1::SubmitJobResponse submit(const v1::SubmitJobRequest& request, const std::string& client = "");
   v1::JobInfo get(const std::string& job_id);
   v1::JobResult result(const std::string& job_id);
   /// Best and mean energy per generation so far (the store's history and, for a job running

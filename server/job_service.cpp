@@ -33,6 +33,32 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
     grpc_handoff(this);
   }
 
+  /// A stream that starts later, from another thread, with start() or fail() (exactly one,
+  /// once): a Solve whose submit waits on the blocking queue for its mesh to reload. gRPC
+  /// calls OnDone only after Finish, so the reactor lives until then.
+  explicit WatchReactor(ServiceContext& ctx) : ctx_(ctx) { grpc_handoff(this); }
+
+  void start(std::shared_ptr<EventLog> log) {
+    auto sub = std::make_shared<Subscriber>(this);
+    bool cancelled;
+    {
+      std::lock_guard lock(start_mutex_);
+      log_ = std::move(log);
+      sub_ = sub;
+      cancelled = cancelled_before_start_;
+    }
+    log_->subscribe(sub);
+    ctx_.metrics.watcher_started("grpc");
+    std::lock_guard lock(sub->mutex);
+    if (cancelled) finish_locked(grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled by the client"));
+    else pump_locked();
+  }
+
+  void fail(const grpc::Status& status) {
+    grpc_handoff(this);
+    Finish(status);
+  }
+
   void OnWriteDone(bool ok) override {
     grpc_reaction(this);
     std::lock_guard lock(sub_->mutex);
@@ -51,8 +77,14 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
 
   void OnCancel() override {
     grpc_reaction(this);
-    if (!sub_) return;
-    std::lock_guard lock(sub_->mutex);
+    std::shared_ptr<Subscriber> sub;
+    {
+      std::lock_guard lock(start_mutex_);
+      sub = sub_;
+      if (!sub) cancelled_before_start_ = true;  // a deferred stream: start() finishes it
+    }
+    if (!sub) return;  // (or a stream that failed at once: finished already)
+    std::lock_guard lock(sub->mutex);
     if (!writing_) finish_locked(grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled by the client"));
     // else OnWriteDone(false) follows and finishes
   }
@@ -113,7 +145,9 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
   ServiceContext& ctx_;
   std::shared_ptr<EventLog> log_;
   uint64_t cursor_ = 0;
+  std::mutex start_mutex_;  // sub_ of a deferred stream is set by start() while OnCancel may read it
   std::shared_ptr<Subscriber> sub_;
+  bool cancelled_before_start_ = false;  // guarded by start_mutex_
   // Guarded by sub_->mutex:
   EventPtr in_flight_;
   bool writing_ = false;
@@ -125,16 +159,21 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
 
 grpc::ServerUnaryReactor* JobServiceImpl::SubmitJob(grpc::CallbackServerContext* context,
                                                     const v1::SubmitJobRequest* request, v1::SubmitJobResponse* reply) {
-  return unary(ctx_, context, "SubmitJob", true, [&](const std::string& client) {
+  auto body = [this, context, request, reply](const std::string& client) {
     try {
-      *reply = ctx_.job_quota.submit(client, [&] { return ctx_.jobs.submit(*request); });
+      *reply = ctx_.jobs.submit(*request, client);
     } catch (...) {
       const grpc::Status s = current_exception_status();
       ctx_.log.info("job.refused", {{"peer", context->peer()}, {"mesh", request->spec().mesh_id()},
                                     {"code", wire::status_code_name(s.error_code())}, {"reason", s.error_message()}});
       throw;
     }
-  });
+  };
+  // A mesh to reload from the store (evicted, or stored before a restart) is parsed off gRPC's threads.
+  if (ctx_.meshes.must_reload(request->spec().mesh_id())) {
+    return unary_blocking(ctx_, context, "SubmitJob", true, std::move(body));
+  }
+  return unary(ctx_, context, "SubmitJob", true, body);
 }
 
 grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::WatchJob(grpc::CallbackServerContext* context,
@@ -153,8 +192,27 @@ grpc::ServerWriteReactor<v1::JobEvent>* JobServiceImpl::Solve(grpc::CallbackServ
   std::string client;
   grpc::Status status = ctx_.admit(context, "Solve", &client);
   if (!status.ok()) return new WatchReactor(ctx_, status);
+  if (ctx_.meshes.must_reload(request->spec().mesh_id())) {  // as SubmitJob: parse off gRPC's threads
+    status = ctx_.park();
+    if (!status.ok()) return new WatchReactor(ctx_, status);
+    auto* reactor = new WatchReactor(ctx_);
+    ctx_.blocking.post([this, reactor, request, client] {
+      std::shared_ptr<EventLog> log;
+      grpc::Status failed;
+      try {
+        const auto reply = ctx_.jobs.submit(*request, client);
+        log = ctx_.jobs.events(reply.job_id());
+      } catch (...) {
+        failed = current_exception_status();
+      }
+      ctx_.unpark();
+      if (log) reactor->start(std::move(log));
+      else reactor->fail(failed);
+    });
+    return reactor;
+  }
   try {
-    const auto reply = ctx_.job_quota.submit(client, [&] { return ctx_.jobs.submit(*request); });
+    const auto reply = ctx_.jobs.submit(*request, client);
     return new WatchReactor(ctx_, ctx_.jobs.events(reply.job_id()), 0);
   } catch (...) {
     return new WatchReactor(ctx_, current_exception_status());

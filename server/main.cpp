@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--max-jobs-per-client", o.max_jobs_per_client,
                  "Queued + running jobs of one client (its token; else its mutual-TLS certificate name; else its IP "
-                 "address); 0 = no cap")
+                 "address), counted in the job store: across all replicas sharing it; 0 = no cap")
       ->capture_default_str();
   app.add_option("--max-requests-per-second-per-client", o.max_requests_per_second_per_client,
                  "Calls per second of one client (identified as for --max-jobs-per-client); 0 = no cap")

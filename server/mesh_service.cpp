@@ -134,7 +134,10 @@ grpc::ServerReadReactor<v1::UploadMeshRequest>* MeshServiceImpl::UploadMesh(grpc
 
 grpc::ServerUnaryReactor* MeshServiceImpl::GetMesh(grpc::CallbackServerContext* context,
                                                    const v1::GetMeshRequest* request, v1::MeshInfo* reply) {
-  return unary(ctx_, context, "GetMesh", false, [&] { *reply = ctx_.meshes.get(request->id()); });
+  auto body = [this, request, reply] { *reply = ctx_.meshes.get(request->id()); };
+  // A reload (a mesh evicted, or stored before a restart) is parsed off gRPC's threads.
+  if (ctx_.meshes.must_reload(request->id())) return unary_blocking(ctx_, context, "GetMesh", false, std::move(body));
+  return unary(ctx_, context, "GetMesh", false, body);
 }
 
 grpc::ServerUnaryReactor* MeshServiceImpl::ListMeshes(grpc::CallbackServerContext* context,

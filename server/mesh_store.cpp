@@ -49,6 +49,14 @@ std::optional<v1::MeshInfo> MeshStore::find_cached(const std::string& id) {
   return info_locked(*it->second);
 }
 
+bool MeshStore::must_reload(const std::string& id) {
+  {
+    std::lock_guard lock(mutex_);
+    if (records_.count(id)) return false;
+  }
+  return is_mesh_id(id) && store_.has_mesh(id);  // one indexed query, outside the lock
+}
+
 namespace {
 std::shared_ptr<MeshRecord> parse_record(const std::string& id, const std::string& name, const std::string& format,
                                          const std::string& bytes, const MeshReadLimits& limits) {

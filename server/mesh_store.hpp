@@ -91,6 +91,10 @@ class MeshStore {
   /// Info of a cached mesh (marks it recently used), or nullopt. Never reads the disk.
   std::optional<v1::MeshInfo> find_cached(const std::string& id);
 
+  /// True when `id` is not in memory but the store keeps its bytes, so that get() or
+  /// acquire() would parse it: callers on latency-sensitive threads run those elsewhere.
+  bool must_reload(const std::string& id);
+
   /// Parses `bytes` (format "obj"/"off"/"ply"/"stl"), stores the mesh under `id` and
   /// persists the bytes in the store. Throws depath::Error(invalid_argument) with
   /// the loader's message for a bad file, Error(resource_exhausted) when no parse slot frees

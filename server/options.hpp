@@ -34,7 +34,7 @@ struct ServerOptions {
   std::vector<std::string> auth_tokens;
   double auth_failure_burst = 20;         ///< failed token checks a peer may make at once...
   double auth_failure_rate = 1;           ///< ...and per second after that; then RESOURCE_EXHAUSTED
-  int max_jobs_per_client = 0;            ///< queued + running jobs of one token (or certificate, or peer); 0 = no cap
+  int max_jobs_per_client = 0;            ///< queued + running jobs of one token (or certificate, or peer) in the store, all replicas; 0 = no cap
   double max_requests_per_second_per_client = 0;  ///< calls per second of one token (or peer); 0 = no cap
   int max_concurrent_uploads = 4;         ///< UploadMesh streams in flight; more: RESOURCE_EXHAUSTED
   std::string tls_cert;                   ///< PEM certificate chain: serve TLS (with tls_key)

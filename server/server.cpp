@@ -96,8 +96,7 @@ struct Server::Impl {
         jobs(options, *store, meshes, hub, pool, log, &metrics),
         blocking(o.upload_parsers),
         access(options, log),
-        job_quota(o.max_jobs_per_client, jobs),
-        context{options, meshes, jobs, log, blocking, metrics, access, job_quota},
+        context{options, meshes, jobs, log, blocking, metrics, access},
         mesh_service(context),
         job_service(context) {}
 
@@ -111,7 +110,6 @@ struct Server::Impl {
   JobManager jobs;
   TaskQueue blocking;
   AccessGuard access;
-  ClientJobQuota job_quota;
   ServiceContext context;
   MeshServiceImpl mesh_service;
   JobServiceImpl job_service;
@@ -135,6 +133,9 @@ Server::Server(const ServerOptions& options) {
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   builder.AddListeningPort(options.listen, make_server_credentials(options), &impl_->port);
+  // gRPC sets SO_REUSEPORT by default: a second server on a taken port would start and
+  // silently take half the connections. Refuse the port instead.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(options.max_message_bytes);
   builder.SetMaxSendMessageSize(options.max_message_bytes);
   builder.RegisterService(&impl_->mesh_service);
@@ -187,6 +188,7 @@ void Server::start_health_server() {
   grpc::ServerBuilder builder;
   builder.AddListeningPort(impl_->options.health_listen, grpc::InsecureServerCredentials(),
                            &impl_->health_port);
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   impl_->health_server = builder.BuildAndStart();
   if (!impl_->health_server || impl_->health_port == 0) {
     impl_->server->Shutdown();

@@ -4,7 +4,6 @@
 #pragma once
 
 #include "access_guard.hpp"
-#include "client_job_quota.hpp"
 #include "job_manager.hpp"
 #include "log.hpp"
 #include "mesh_store.hpp"
@@ -15,6 +14,7 @@
 #include <grpcpp/server_context.h>
 #include <grpcpp/support/status.h>
 
+#include <algorithm>
 #include <atomic>
 #include <string>
 #include <string_view>
@@ -29,12 +29,12 @@ struct ServiceContext {
   TaskQueue& blocking;  ///< for slow work (mesh parsing)
   ServiceMetrics& metrics;
   AccessGuard& access;
-  ClientJobQuota& job_quota;
   std::atomic<bool> shutting_down{false};
   /// Set once a durable server's jobs are handed back at shutdown: watch streams end, after
   /// the events they have not sent yet, with UNAVAILABLE (the client reconnects).
   std::atomic<bool> release_watchers{false};
   std::atomic<int> uploads{0};  ///< UploadMesh streams in flight (--max-concurrent-uploads)
+  std::atomic<int> parked{0};   ///< calls waiting on `blocking` for a mesh reload (park())
 
   /// AccessGuard::check of the call (`method` names it in logs): OK, or UNAUTHENTICATED /
   /// RESOURCE_EXHAUSTED. `client`, if given, receives the caller's identity for quotas.
@@ -53,6 +53,21 @@ struct ServiceContext {
     if (authorization) metadata.emplace("authorization", grpc::string_ref(*authorization));
     return access.check(method, metadata, peer, client);
   }
+
+  /// Takes a place for a call that waits on `blocking` for its mesh to reload (unary_blocking):
+  /// OK, or RESOURCE_EXHAUSTED when --max-queued-jobs + --max-running-jobs calls wait already
+  /// (each would become a queued or running job). unpark() gives the place back.
+  grpc::Status park() {
+    const int limit = std::max(1, options.max_queued_jobs + options.max_running_jobs);
+    if (parked.fetch_add(1) >= limit) {
+      parked.fetch_sub(1);
+      return {grpc::StatusCode::RESOURCE_EXHAUSTED,
+              std::to_string(limit) + " calls already wait for meshes to reload from the store "
+              "(--max-queued-jobs + --max-running-jobs); try again shortly"};
+    }
+    return grpc::Status::OK;
+  }
+  void unpark() { parked.fetch_sub(1); }
 
   /// authenticate(), then UNAVAILABLE while shutting down (for calls that start new work).
   grpc::Status admit(const grpc::CallbackServerContext* ctx, std::string_view method,

@@ -204,8 +204,7 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
       }
       const v1::SubmitJobRequest request = submit_request_from_json(body);
       try {
-        const v1::SubmitJobResponse reply =
-            ctx.service.job_quota.submit(client, [&] { return ctx.service.jobs.submit(request); });
+        const v1::SubmitJobResponse reply = ctx.service.jobs.submit(request, client);
         send_json(res, {{"id", reply.job_id()}, {"existing", reply.existing()}, {"job", job_summary(reply.job())}});
       } catch (...) {
         const grpc::Status s = current_exception_status();

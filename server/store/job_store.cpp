@@ -53,6 +53,9 @@ const char* const kMigrations[] = {
     R"(CREATE TABLE progress_history (
          job_id TEXT NOT NULL, generation BIGINT NOT NULL, best_energy DOUBLE PRECISION NOT NULL,
          mean_energy DOUBLE PRECISION, PRIMARY KEY (job_id, generation));)",
+    // 2 -> 3: the submitting client of each job, for --max-jobs-per-client across replicas.
+    R"(ALTER TABLE jobs ADD COLUMN client TEXT;
+       CREATE INDEX jobs_by_client ON jobs (client, state);)",
 };
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));
 
@@ -214,6 +217,12 @@ std::optional<StoredMesh> JobStore::get_mesh(const std::string& id) {
   return m;
 }
 
+bool JobStore::has_mesh(const std::string& id) {
+  if (!keeps_meshes_) return false;
+  auto s = db_->session();
+  return !s->exec("SELECT 1 FROM meshes WHERE id = $1", {id}).rows.empty();
+}
+
 std::vector<StoredMesh> JobStore::list_meshes() {
   std::vector<StoredMesh> out;
   if (!keeps_meshes_) return out;
@@ -241,7 +250,7 @@ std::optional<JobRecord> JobStore::get_job_in(SqlSession& s, const std::string& 
   return job_from_row(rows[0]);
 }
 
-std::pair<JobRecord, bool> JobStore::insert_job(const JobRecord& job, v1::JobEvent queued) {
+std::pair<JobRecord, bool> JobStore::insert_job(const JobRecord& job, v1::JobEvent queued, int max_client_jobs) {
   if (!job.request_id.empty()) {
     if (auto existing = find_request(job.request_id)) return {*existing, false};
   }
@@ -250,12 +259,22 @@ std::pair<JobRecord, bool> JobStore::insert_job(const JobRecord& job, v1::JobEve
   try {
     auto s = db_->session();
     SqlTransaction tx(*s, db_->dialect());
+    if (max_client_jobs > 0 && !job.client.empty()) {
+      // Replicas submitting for one client take turns here (SQLite: one connection already).
+      if (db_->dialect() == SqlDialect::postgresql) s->exec("SELECT pg_advisory_xact_lock(4242, hashtext($1))", {job.client});
+      const int64_t held = sql_int(s->exec("SELECT COUNT(*) FROM jobs WHERE client = $1 AND state IN ($2, $3)",
+                                           {job.client, static_cast<int>(v1::JOB_STATE_QUEUED),
+                                            static_cast<int>(v1::JOB_STATE_RUNNING)})
+                                       .rows.at(0)
+                                       .at(0));
+      if (held >= max_client_jobs) throw ClientQuotaExceeded(held);
+    }
     auto rows =
         s->exec(
-             "INSERT INTO jobs (id, request_id, mesh_id, spec, state, created, last_sequence, seq_reserved) "
-             "VALUES ($1, $2, $3, $4, $5, $6, 1, 1) RETURNING number",
+             "INSERT INTO jobs (id, request_id, mesh_id, spec, state, created, last_sequence, seq_reserved, client) "
+             "VALUES ($1, $2, $3, $4, $5, $6, 1, 1, $7) RETURNING number",
              {job.id, sql_text_or_null(job.request_id), job.mesh_id, sql_blob(job.spec.SerializeAsString()),
-              static_cast<int>(v1::JOB_STATE_QUEUED), job.created})
+              static_cast<int>(v1::JOB_STATE_QUEUED), job.created, sql_text_or_null(job.client)})
             .rows;
     s->exec("INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, 1, 0, $2)",
             {job.id, sql_blob(queued.SerializeAsString())});

@@ -36,6 +36,7 @@ struct StoredMesh {
 struct JobRecord {
   int64_t number = 0;  ///< submission order
   std::string id, request_id, mesh_id;
+  std::string client;  ///< who submitted it (AccessGuard's identity), for --max-jobs-per-client; set at insert only
   v1::JobSpec spec;
   v1::JobState state = v1::JOB_STATE_QUEUED;
   double created = 0, started = 0, finished = 0;
@@ -67,6 +68,13 @@ int progress_history_stride(int latest);
 /// multiple of the stride, neither the first nor the last.
 void thin_progress_history(std::vector<ProgressPoint>& points, int latest);
 
+/// insert_job refused the job: its client already has `held` jobs queued or running.
+class ClientQuotaExceeded : public std::runtime_error {
+ public:
+  explicit ClientQuotaExceeded(int64_t held) : std::runtime_error("client job quota"), held(held) {}
+  int64_t held;
+};
+
 enum class CancelOutcome { cancelled_queued, requested, already_final };
 
 class JobStore {
@@ -85,12 +93,17 @@ class JobStore {
   // Meshes (no-ops / nothing found when !keeps_meshes()).
   void put_mesh(const StoredMesh& mesh);
   std::optional<StoredMesh> get_mesh(const std::string& id);
+  /// Whether get_mesh would find it, without reading the bytes.
+  bool has_mesh(const std::string& id);
   std::vector<StoredMesh> list_meshes();
   bool delete_mesh(const std::string& id);
 
   /// Stores a new queued job and its first event (sequence 1). If its request id is taken
-  /// already, stores nothing and returns the existing job (second = false).
-  std::pair<JobRecord, bool> insert_job(const JobRecord& job, v1::JobEvent queued);
+  /// already, stores nothing and returns the existing job (second = false). With
+  /// `max_client_jobs` > 0 and a job.client, throws ClientQuotaExceeded when that client has
+  /// that many jobs queued or running in the store already: counted in the insert's
+  /// transaction (on PostgreSQL under a lock per client), so the cap holds across replicas.
+  std::pair<JobRecord, bool> insert_job(const JobRecord& job, v1::JobEvent queued, int max_client_jobs = 0);
   std::optional<JobRecord> find_request(const std::string& request_id);
   std::optional<JobRecord> get_job(const std::string& id);
   /// True if the id belonged to a job removed after its TTL.

@@ -226,6 +226,113 @@ TEST(ServiceMeshes, QueuedJobsHoldMeshesOnlyWithinTheCacheBudget) {
   std::filesystem::remove_all(dir);
 }
 
+// A port another server holds is refused at start (gRPC would otherwise share it with
+// SO_REUSEPORT and split the connections between the two servers).
+TEST(ServiceStartup, APortInUseIsRefused) {
+  TestServer first;
+  auto options = quiet_options();
+  options.listen = first.address();
+  try {
+    service::Server second(options);
+    ADD_FAILURE() << "a second server started on " << first.address();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot listen"), std::string::npos) << e.what();
+  }
+}
+
+// Calls that reload a mesh from the store (stored before a restart, or evicted) parse it off
+// gRPC's callback threads, so health and ListJobs answer while the reloads run. Four persisted
+// meshes, reloaded one at a time (--max-concurrent-parses 1) for a SubmitJob, a Solve and a
+// GetMesh each right after a restart. The liveness bound on health and ListJobs is the
+// deployment's probe timeout (deploy/k8s/base: timeoutSeconds 5), scaled for sanitizers;
+// whether they answered while reloads were still running is checked by order, not by time.
+TEST(ServiceMeshes, ReloadsAfterARestartLeaveHealthAndListJobsAnswering) {
+  const auto dir = std::filesystem::temp_directory_path() / ("depath_reload_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  auto options = quiet_options();
+  options.data_dir = dir.string();
+  options.max_concurrent_parses = 1;
+  const int n = sanitized_build() ? 120 : 250;  // 15,625 / 62,500 vertices a mesh
+  std::vector<std::string> ids;
+  {
+    TestServer ts(options);
+    for (int k = 0; k < 4; ++k) ids.push_back(ts.upload_ok(grid_obj(n, 0.1 + 0.1 * k), "m" + std::to_string(k) + ".obj"));
+  }
+  TestServer ts(options);
+  const int last = n * n - 1;
+  std::atomic<int> pending{0};
+  std::vector<std::thread> calls;
+  std::vector<grpc::Status> submit_status(ids.size()), get_status(ids.size()), solve_status(ids.size());
+  std::vector<v1::JobState> solve_end(ids.size(), v1::JOB_STATE_UNSPECIFIED);
+  std::vector<uint32_t> get_vertices(ids.size(), 0);
+  for (size_t k = 0; k < ids.size(); ++k) {
+    pending += 3;
+    calls.emplace_back([&, k] {
+      v1::SubmitJobResponse reply;
+      submit_status[k] = ts.submit(job_spec(ids[k], 0, last), &reply);
+      --pending;
+    });
+    calls.emplace_back([&, k] {
+      v1::GetMeshRequest req;
+      req.set_id(ids[k]);
+      v1::MeshInfo info;
+      auto ctx = ts.context();
+      get_status[k] = ts.meshes().GetMesh(ctx.get(), req, &info);
+      get_vertices[k] = info.num_vertices();
+      --pending;
+    });
+    calls.emplace_back([&, k] {
+      v1::SubmitJobRequest req;
+      *req.mutable_spec() = job_spec(ids[k], last, 0);
+      auto ctx = ts.context();
+      auto reader = ts.jobs().Solve(ctx.get(), req);
+      v1::JobEvent ev;
+      bool first = true;
+      while (reader->Read(&ev)) {
+        if (first) --pending;  // the stream started: its submit is done
+        first = false;
+        if (ev.has_state()) solve_end[k] = ev.state().state();
+      }
+      if (first) --pending;
+      solve_status[k] = reader->Finish();
+    });
+  }
+  auto health = grpc::health::v1::Health::NewStub(ts.channel());
+  const double probe_timeout = 5;  // deploy/k8s/base/deployment.yaml: timeoutSeconds
+  int health_during = 0, list_during = 0;
+  bool answered = true;
+  while (answered && pending.load() > 0) {
+    grpc::health::v1::HealthCheckResponse res;
+    auto hctx = ts.context(probe_timeout);
+    const auto hs = health->Check(hctx.get(), {}, &res);
+    EXPECT_TRUE(hs.ok()) << "health did not answer while meshes reloaded: " << hs.error_message();
+    EXPECT_EQ(res.status(), grpc::health::v1::HealthCheckResponse::SERVING);
+    if (hs.ok() && pending.load() > 0) ++health_during;
+    v1::ListJobsResponse list;
+    auto lctx = ts.context(probe_timeout);
+    const auto ls = ts.jobs().ListJobs(lctx.get(), {}, &list);
+    EXPECT_TRUE(ls.ok()) << "ListJobs did not answer while meshes reloaded: " << ls.error_message();
+    if (ls.ok() && pending.load() > 0) ++list_during;
+    answered = hs.ok() && ls.ok();
+  }
+  for (auto& t : calls) t.join();
+  EXPECT_GT(health_during, 0) << "health answered only after every reload had finished";
+  EXPECT_GT(list_during, 0) << "ListJobs answered only after every reload had finished";
+  for (size_t k = 0; k < ids.size(); ++k) {
+    EXPECT_TRUE(submit_status[k].ok()) << submit_status[k].error_message();
+    EXPECT_TRUE(get_status[k].ok()) << get_status[k].error_message();
+    EXPECT_EQ(get_vertices[k], static_cast<uint32_t>(n * n));
+    EXPECT_TRUE(solve_status[k].ok()) << solve_status[k].error_message();
+    EXPECT_EQ(solve_end[k], v1::JOB_STATE_SUCCEEDED);
+  }
+  v1::GetMeshRequest missing;
+  missing.set_id(std::string(64, 'a'));  // not stored: NOT_FOUND at once, as before
+  v1::MeshInfo info;
+  auto ctx = ts.context();
+  EXPECT_EQ(ts.meshes().GetMesh(ctx.get(), missing, &info).error_code(), StatusCode::NOT_FOUND);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(ServiceJobs, SubmitErrorsUseTheRightCodes) {
   TestServer ts;
   const std::string grid = ts.upload_ok(grid_obj(6));

@@ -367,6 +367,41 @@ def named_replica_restart(pg):
         d.stop()
 
 
+def client_quota_across_replicas(pg):
+    """--max-jobs-per-client counts the client's queued + running jobs in the shared store: one
+    client (a token) hitting both replicas gets at most the cap in all; another token is not held
+    back by it; a finished job frees a place on either replica."""
+    store = ["--store", pg.dsn]
+    opts = ["--max-jobs-per-client", "2", "--max-running-jobs", "1", "--auth-token", "alice", "--auth-token", "bob"]
+    a, b = Daemon(store, opts), Daemon(store, opts)
+    try:
+        def as_client(token, d, seed):
+            return client("submit", ARGS.mesh, *spec(seed, 100000), "--server", d.address, "--token", token)
+
+        first, second = as_client("alice", a, 1), as_client("alice", b, 2)
+        check(first.returncode == 0 and second.returncode == 0, "alice's first two jobs: " + first.stderr + second.stderr)
+        for d in (a, b):
+            r = as_client("alice", d, 3)
+            check(r.returncode != 0 and "RESOURCE_EXHAUSTED" in r.stderr and "--max-jobs-per-client 2" in r.stderr
+                  and "already has 2 jobs" in r.stderr, "alice's third job on %s: %s" % (d.name, r.stderr))
+        other = as_client("bob", b, 4)
+        check(other.returncode == 0, "bob is not held back by alice's jobs: " + other.stderr)
+        r = client("cancel", first.stdout.strip(), "--server", b.address, "--token", "alice")
+        check(r.returncode == 0, "cancel: " + r.stderr)
+        w = client("watch", first.stdout.strip(), "--json", "--server", a.address, "--token", "alice", timeout=30)
+        evs = [json.loads(l) for l in w.stdout.splitlines() if l.strip()]
+        check(final_state(evs) == "cancelled", "not cancelled: %s %s" % (final_state(evs), w.stderr[-200:]))
+        again = as_client("alice", a, 5)
+        check(again.returncode == 0, "alice after one of her jobs ended: " + again.stderr)
+        for r in (second, other, again):
+            client("cancel", r.stdout.strip(), "--server", a.address, "--token", "alice")
+        print("postgresql: --max-jobs-per-client 2 held across 2 replicas (third job refused on both; "
+              "another client unaffected; a cancelled job freed a place)")
+    finally:
+        a.stop()
+        b.stop()
+
+
 def test_postgres(pg):
     restart_durability(["--store", pg.dsn], "postgresql")
     named_replica_restart(pg)
@@ -443,6 +478,7 @@ def test_postgres(pg):
         for d in (a, b):
             if d:
                 d.stop()
+    client_quota_across_replicas(pg)
     # TTL clean-up on PostgreSQL.
     d = Daemon(store, ["--job-ttl-seconds", "1"])
     try:

@@ -1,8 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "mesh_store.hpp"
 
-#include "depath/util/error.hpp"
 #include "depath/io/mesh_reader.hpp"
+#include "depath/util/error.hpp"
 #include "depath/wire/wire.hpp"
 #include "service_error.hpp"
 
@@ -10,8 +10,9 @@ namespace depath::service {
 
 namespace {
 ServiceError not_found(const std::string& id) {
-  return ServiceError(grpc::StatusCode::NOT_FOUND,
-                      "mesh " + id + " not found (unknown, deleted or evicted from the cache): upload it again");
+  return ServiceError(
+      grpc::StatusCode::NOT_FOUND,
+      "mesh " + id + " not found (unknown, deleted or evicted from the cache): upload it again");
 }
 }  // namespace
 
@@ -25,9 +26,7 @@ const FastMarchingStencils& MeshLease::stencils() {
 MeshStore::MeshStore(uint64_t budget_bytes, JobStore& store, Log& log, ParseLimits parse)
     : budget_(budget_bytes), store_(store), log_(log), parse_limits_(parse) {}
 
-void MeshStore::touch_locked(Record& r) {
-  lru_.splice(lru_.begin(), lru_, r.lru_it);
-}
+void MeshStore::touch_locked(Record& r) { lru_.splice(lru_.begin(), lru_, r.lru_it); }
 
 v1::MeshInfo MeshStore::info_locked(const Record& r) const {
   v1::MeshInfo info = r.info;
@@ -58,8 +57,9 @@ bool MeshStore::must_reload(const std::string& id) {
 }
 
 namespace {
-std::shared_ptr<MeshRecord> parse_record(const std::string& id, const std::string& name, const std::string& format,
-                                         const std::string& bytes, const MeshReadLimits& limits) {
+std::shared_ptr<MeshRecord> parse_record(const std::string& id, const std::string& name,
+                                         const std::string& format, const std::string& bytes,
+                                         const MeshReadLimits& limits) {
   auto r = std::make_shared<MeshRecord>();
   r->id = id;
   r->name = name;
@@ -78,11 +78,13 @@ std::shared_ptr<MeshRecord> MeshStore::parse_bounded(const std::string& id, cons
       std::chrono::duration<double>(std::min(parse_limits_.budget_seconds, 1e7)));  // no overflow
   {
     std::unique_lock lock(parse_mutex_);
-    if (!parse_slot_freed_.wait_for(lock, budget, [&] { return parses_running_ < parse_limits_.max_concurrent; }))
+    if (!parse_slot_freed_.wait_for(lock, budget,
+                                    [&] { return parses_running_ < parse_limits_.max_concurrent; }))
       throw Error(ErrorCode::resource_exhausted,
                   "mesh " + name + " not parsed: all " + std::to_string(parse_limits_.max_concurrent) +
                       " parse slots (--max-concurrent-parses) stayed busy for the parse budget of " +
-                      std::to_string(parse_limits_.budget_seconds) + " s (--parse-timeout-seconds); try again later");
+                      std::to_string(parse_limits_.budget_seconds) +
+                      " s (--parse-timeout-seconds); try again later");
     ++parses_running_;
   }
   struct SlotRelease {
@@ -101,7 +103,8 @@ std::shared_ptr<MeshRecord> MeshStore::parse_bounded(const std::string& id, cons
     return parse_record(id, name, format, bytes, limits);
   } catch (const Error& e) {
     if (e.code() != ErrorCode::resource_exhausted) throw;
-    throw Error(ErrorCode::resource_exhausted, std::string(e.what()) + " (" + std::to_string(parse_limits_.budget_seconds) +
+    throw Error(ErrorCode::resource_exhausted, std::string(e.what()) + " (" +
+                                                   std::to_string(parse_limits_.budget_seconds) +
                                                    " s, --parse-timeout-seconds)");
   }
 }
@@ -121,14 +124,28 @@ std::shared_ptr<MeshRecord> MeshStore::insert_locked(std::shared_ptr<Record> rec
   return record;
 }
 
+void MeshStore::drop_stencils_locked() {
+  for (auto it = lru_.rbegin(); bytes_ > budget_ && it != lru_.rend(); ++it) {
+    Record& r = *records_.at(*it);
+    if (r.pins > 0 || !r.stencils) continue;
+    const uint64_t freed = r.stencils->memory_bytes();
+    r.stencils.reset();
+    r.memory_bytes -= freed;
+    bytes_ -= freed;
+  }
+}
+
 void MeshStore::evict_locked(const std::string& keep) {
+  drop_stencils_locked();
   auto it = lru_.end();
   while (bytes_ > budget_ && it != lru_.begin()) {
     --it;
     auto rec_it = records_.find(*it);
     Record& r = *rec_it->second;
     if (r.pins > 0 || r.id == keep) continue;
-    log_.info("mesh.evicted", {{"mesh", r.id}, {"memory_bytes", r.memory_bytes}, {"cache_bytes", bytes_},
+    log_.info("mesh.evicted", {{"mesh", r.id},
+                               {"memory_bytes", r.memory_bytes},
+                               {"cache_bytes", bytes_},
                                {"budget_bytes", budget_}});
     bytes_ -= r.memory_bytes;
     ++stats_.evictions;
@@ -258,9 +275,10 @@ std::shared_ptr<MeshLease> MeshStore::hold_for_queue(const std::string& id) {
     }
     if (held + record->memory_bytes > budget_) {
       throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED,
-                         "mesh cache budget (--mesh-cache-bytes " + std::to_string(budget_) + ") is taken by the " +
-                             std::to_string(held) + " bytes of meshes that queued and running jobs hold; mesh " + id +
-                             " needs " + std::to_string(record->memory_bytes) + " more; try again later");
+                         "mesh cache budget (--mesh-cache-bytes " + std::to_string(budget_) +
+                             ") is taken by the " + std::to_string(held) +
+                             " bytes of meshes that queued and running jobs hold; mesh " + id + " needs " +
+                             std::to_string(record->memory_bytes) + " more; try again later");
     }
   }
   ++record->pins;
@@ -288,7 +306,10 @@ std::shared_ptr<const FastMarchingStencils> MeshStore::stencils_of(Record& recor
   record.memory_bytes += extra;
   if (record.in_cache) {  // an evicted record (kept by its jobs) is no longer counted
     bytes_ += extra;
-    evict_locked(record.id);
+    // Derived data makes room only by dropping other derived data: a mesh (in a memory
+    // store, the only copy of an upload) is never evicted to hold stencils. Over budget
+    // while jobs hold these, as with meshes held by jobs.
+    drop_stencils_locked();
   }
   return built;
 }

@@ -5,13 +5,6 @@
 // uploaded the mesh).
 #pragma once
 
-#include "depath/decode/fast_marching.hpp"
-#include "depath/mesh/mesh.hpp"
-#include "depath/v1/mesh.pb.h"
-#include "depath/wire/mesh.hpp"
-#include "log.hpp"
-#include "store/job_store.hpp"
-
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -22,6 +15,13 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+
+#include "depath/decode/fast_marching.hpp"
+#include "depath/mesh/mesh.hpp"
+#include "depath/v1/mesh.pb.h"
+#include "depath/wire/mesh.hpp"
+#include "log.hpp"
+#include "store/job_store.hpp"
 
 namespace depath::service {
 
@@ -34,10 +34,11 @@ struct MeshRecord {
   uint64_t memory_bytes = 0;  ///< the mesh's, plus its stencils' once built
   std::shared_ptr<const Mesh> mesh;
   /// The mesh's fast-marching stencils, built by the first job that runs on it and kept
-  /// for the next ones (null until then).
+  /// for the next ones (null until then, and again after the budget dropped them: they are
+  /// derived data, so they go before any mesh does and never push a mesh out).
   std::shared_ptr<const FastMarchingStencils> stencils;
   std::mutex stencil_build;  ///< held while building them: one build per mesh, others wait
-  v1::MeshInfo info;  // counts, bounding box, warnings
+  v1::MeshInfo info;         // counts, bounding box, warnings
   int pins = 0;
   bool in_cache = false;
   std::list<std::string>::iterator lru_it;
@@ -74,11 +75,11 @@ struct ParseLimits {
 
 /// Counters of the cache since the start (for /metrics).
 struct MeshCacheStats {
-  uint64_t bytes = 0;      ///< memory of the cached meshes now
-  uint64_t meshes = 0;     ///< meshes cached now
-  uint64_t hits = 0;       ///< lookups (get, job pins) answered from memory
-  uint64_t misses = 0;     ///< lookups that went to the store (reload) or found nothing
-  uint64_t evictions = 0;  ///< meshes dropped to stay within the budget
+  uint64_t bytes = 0;           ///< memory of the cached meshes now
+  uint64_t meshes = 0;          ///< meshes cached now
+  uint64_t hits = 0;            ///< lookups (get, job pins) answered from memory
+  uint64_t misses = 0;          ///< lookups that went to the store (reload) or found nothing
+  uint64_t evictions = 0;       ///< meshes dropped to stay within the budget
   uint64_t stencil_builds = 0;  ///< fast-marching stencil tables built for jobs
 };
 
@@ -130,14 +131,17 @@ class MeshStore {
   std::shared_ptr<const FastMarchingStencils> stencils_of(Record& record);
   std::shared_ptr<Record> insert_locked(std::shared_ptr<Record> record);
   void evict_locked(const std::string& keep);
+  /// Frees the stencils of meshes no job holds, least recently used first, until the cache
+  /// is within its budget.
+  void drop_stencils_locked();
   v1::MeshInfo info_locked(const Record& r) const;
   void touch_locked(Record& r);
   /// Loads the mesh from the store (outside the lock); nullptr if absent.
   std::shared_ptr<Record> load_from_store(const std::string& id);
   std::shared_ptr<Record> lookup_or_load(const std::string& id);
   /// Parses within the limits: waits for a slot (at most the budget), then parses with a deadline.
-  std::shared_ptr<Record> parse_bounded(const std::string& id, const std::string& name, const std::string& format,
-                                        const std::string& bytes);
+  std::shared_ptr<Record> parse_bounded(const std::string& id, const std::string& name,
+                                        const std::string& format, const std::string& bytes);
 
   const uint64_t budget_;
   JobStore& store_;

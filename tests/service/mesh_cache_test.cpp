@@ -46,6 +46,41 @@ TEST(ServiceMeshCache, LeasesShareOneStencilBuildCountedInTheCache) {
   EXPECT_EQ(store.cached_bytes(), 0u);
 }
 
+// Stencils are derived data: building them never evicts a mesh (in a memory store the only
+// copy of an upload), and over budget the stencils of meshes no job holds go first.
+TEST(ServiceMeshCache, StencilsNeverEvictAMeshAndGoFirstOverBudget) {
+  depath::service::Log log("text", "off");
+  const auto memory = service::JobStore::open("memory");
+  const std::string a(64, 'a'), b(64, 'b'), c(64, 'c');
+  uint64_t mesh_bytes = 0, stencil_bytes = 0;
+  {
+    service::MeshStore probe(1ull << 30, *memory, log);
+    mesh_bytes = probe.add(a, "a.obj", "obj", grid_obj(12)).memory_bytes();
+    stencil_bytes = probe.acquire(a)->stencils().memory_bytes();
+  }
+  ASSERT_GT(stencil_bytes, 0u);
+  // Room for two meshes, not for two meshes and a's stencils.
+  service::MeshStore store(2 * mesh_bytes + stencil_bytes / 2, *memory, log);
+  store.add(a, "a.obj", "obj", grid_obj(12));
+  store.add(b, "b.obj", "obj", grid_obj(12, 0.5));
+  {
+    auto lease = store.acquire(a);
+    lease->stencils();  // a job on a: over budget while it holds them
+    EXPECT_EQ(store.cached_bytes(), 2 * mesh_bytes + stencil_bytes);
+    EXPECT_EQ(store.cache_stats().evictions, 0u) << "building stencils evicted a mesh";
+    EXPECT_NO_THROW(store.get(b));
+  }
+  // The job is done: a's stencils are the first thing to go, and both meshes stay.
+  EXPECT_EQ(store.cached_bytes(), 2 * mesh_bytes);
+  EXPECT_EQ(store.cache_stats().evictions, 0u);
+  EXPECT_NO_THROW(store.get(a));
+  EXPECT_NO_THROW(store.get(b));
+  // A third mesh over budget: a mesh goes (the least recently used), as before.
+  store.add(c, "c.obj", "obj", grid_obj(12, 0.25));
+  EXPECT_EQ(store.cache_stats().evictions, 1u);
+  EXPECT_EQ(store.cached_bytes(), 2 * mesh_bytes);
+}
+
 // Through the service: two jobs on one uploaded mesh build the stencils once (the build
 // counter of this process, where the server runs), and both results equal, bit for bit, a
 // local solve() that builds its own.

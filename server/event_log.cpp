@@ -12,16 +12,15 @@ bool is_terminal_event(const v1::JobEvent& event) {
   return event.has_state() && wire::is_terminal(event.state().state());
 }
 
-uint64_t EventLog::publish(v1::JobEvent event) { return insert(std::move(event), false); }
-
-void EventLog::append_stored(v1::JobEvent event) { insert(std::move(event), true); }
-
-uint64_t EventLog::insert(v1::JobEvent event, bool stored) {
+uint64_t EventLog::publish(v1::JobEvent event) {
   uint64_t seq;
   {
     std::lock_guard lock(mutex_);
     if (closed_) return 0;  // nothing follows the terminal event
-    if (stored && event.sequence() < next_sequence_) return 0;  // seen already
+    // A sequence names one event, in the store and here alike: a numbered event at or below
+    // the last one is that event again (a runner's own event read back from the store by a
+    // sync before the runner published it), never a new one to renumber.
+    if (event.sequence() != 0 && event.sequence() < next_sequence_) return 0;
     seq = std::max<uint64_t>(next_sequence_, event.sequence());
     next_sequence_ = seq + 1;
     event.set_job_id(job_id_);

@@ -36,14 +36,13 @@ class EventLog : public std::enable_shared_from_this<EventLog> {
  public:
   EventLog(std::string job_id, EventHub& hub) : job_id_(std::move(job_id)), hub_(hub) {}
 
-  /// Numbers, timestamps and stores the event, then wakes the watchers (asynchronously).
-  /// A state event whose state is terminal closes the log: nothing may follow it. An event
-  /// that already carries a sequence above the last keeps it (and its time, if set).
+  /// Numbers, timestamps and stores the event, then wakes the watchers (asynchronously);
+  /// returns its sequence, or 0 if nothing was added. A state event whose state is terminal
+  /// closes the log: nothing may follow it. An event that already carries a sequence keeps
+  /// it (and its time, if set) if it is above the last; at or below the last it is that
+  /// event again and is dropped (a sequence names one event, here and in the store).
+  /// A log mirroring the store gets the events numbered elsewhere this way too.
   uint64_t publish(v1::JobEvent event);
-
-  /// A log mirroring the store: adds an event numbered elsewhere, unless its sequence is
-  /// not above the last one here (already seen).
-  void append_stored(v1::JobEvent event);
   /// The next published event gets a sequence above `sequence` (a job taken over: above
   /// every number its previous runner may have used).
   void skip_to(uint64_t sequence);
@@ -61,7 +60,6 @@ class EventLog : public std::enable_shared_from_this<EventLog> {
   size_t num_subscribers() const;
 
  private:
-  uint64_t insert(v1::JobEvent event, bool stored);
   const std::string job_id_;
   EventHub& hub_;
   mutable std::mutex mutex_;

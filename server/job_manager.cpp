@@ -310,18 +310,12 @@ v1::JobInfo JobManager::cancel(const std::string& job_id) {
       std::lock_guard lock(mutex_);
       pins_.erase(job_id);
     }
+    sync_open_log(job_id);
     log_.info("job.cancelled", {{"job", job_id}, {"was", "queued"}});
   } else if (outcome == CancelOutcome::requested) {
     log_.info("job.cancel_requested", {{"job", job_id}});
     beat_wake_.notify_all();  // a shared store: tell the runner soon
   }
-  std::shared_ptr<EventLog> log;
-  {
-    std::lock_guard lock(mutex_);
-    auto it = logs_.find(job_id);
-    if (it != logs_.end()) log = it->second.lock();
-  }
-  if (log) sync_log(job_id, log);
   return get(job_id);
 }
 
@@ -348,10 +342,20 @@ std::shared_ptr<EventLog> JobManager::log_for(const std::string& job_id) {
 
 void JobManager::sync_log(const std::string& job_id, const std::shared_ptr<EventLog>& log) {
   try {
-    for (auto& ev : store_.events_after(job_id, log->last_sequence())) log->append_stored(std::move(ev));
+    for (auto& ev : store_.events_after(job_id, log->last_sequence())) log->publish(std::move(ev));
   } catch (const StoreError& e) {
     log_.warn("store.error", {{"job", job_id}, {"reason", e.what()}});
   }
+}
+
+void JobManager::sync_open_log(const std::string& job_id) {
+  std::shared_ptr<EventLog> log;
+  {
+    std::lock_guard lock(mutex_);
+    auto it = logs_.find(job_id);
+    if (it != logs_.end()) log = it->second.lock();
+  }
+  if (log) sync_log(job_id, log);
 }
 
 void JobManager::sync_mirrors() {
@@ -736,15 +740,13 @@ void JobManager::begin_shutdown() {
       if (job.state != v1::JOB_STATE_QUEUED) continue;
       v1::JobEvent ev = state_event(v1::JOB_STATE_CANCELLED, kUnavailable, "server shutting down");
       ev.set_time_unix(now_unix());
-      if (store_.cancel(job.id, ev) == CancelOutcome::cancelled_queued) ++dropped;
-      std::shared_ptr<EventLog> log;
+      if (store_.cancel(job.id, ev) != CancelOutcome::cancelled_queued) continue;
+      ++dropped;
       {
         std::lock_guard lock(mutex_);
         pins_.erase(job.id);
-        auto it = logs_.find(job.id);
-        if (it != logs_.end()) log = it->second.lock();
       }
-      if (log) sync_log(job.id, log);
+      sync_open_log(job.id);
     }
   }
   std::lock_guard lock(mutex_);

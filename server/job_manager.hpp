@@ -90,6 +90,9 @@ class JobManager {
   JobRecord find(const std::string& job_id);
   std::shared_ptr<EventLog> log_for(const std::string& job_id);
   void sync_log(const std::string& job_id, const std::shared_ptr<EventLog>& log);
+  /// Brings the job's log up to date with the store if some watcher here has it open (a
+  /// cancel the store itself numbered).
+  void sync_open_log(const std::string& job_id);
   void sync_mirrors();
 
   const ServerOptions options_;

@@ -864,6 +864,52 @@ TEST(ServiceEvents, SlowWatcherGetsCoalescedProgressButEveryStateChange) {
   hub.flush();
 }
 
+// A sequence names one event in the store and in a log alike. A runner stores its result and
+// end, then publishes them; a sync of the same log from the store (a cancel, a mirror) may
+// read them back in between. Each event must appear once, with its stored number: before,
+// the runner's publish renumbered an event the sync had added, so a watcher got the result
+// twice (seen under TSan: a cancelled job with two result events).
+TEST(ServiceEvents, AnEventReadBackFromTheStoreIsNotAddedTwice) {
+  service::EventHub hub;
+  auto numbered = [](uint64_t sequence, bool result) {
+    v1::JobEvent e;
+    e.set_sequence(sequence);
+    if (result) e.mutable_result()->set_energy(1.5);
+    else e.mutable_state()->set_state(v1::JOB_STATE_CANCELLED);
+    return e;
+  };
+  // Every order of the runner's two publishes and the sync's two reads (runner and sync each
+  // in their own order).
+  const std::vector<std::vector<int>> orders = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 2, 3, 1},
+                                                {2, 0, 1, 3}, {2, 0, 3, 1}, {2, 3, 0, 1}};
+  for (const auto& order : orders) {
+    auto log = std::make_shared<service::EventLog>("job-z", hub);
+    v1::JobEvent progress;
+    progress.mutable_progress()->set_generation(3);
+    ASSERT_EQ(log->publish(progress), 1u);
+    int runner = 0, sync = 0;
+    for (int step : order) {
+      const bool by_runner = step < 2;
+      const int k = by_runner ? runner++ : sync++;
+      log->publish(numbered(2 + k, k == 0));
+    }
+    std::vector<service::EventPtr> got;
+    uint64_t cursor = 0;
+    while (auto e = log->next_after(cursor)) {
+      got.push_back(e);
+      cursor = e->sequence();
+    }
+    ASSERT_EQ(got.size(), 3u) << "order " << order[0] << order[1] << order[2] << order[3];
+    EXPECT_TRUE(got[1]->has_result());
+    EXPECT_EQ(got[1]->sequence(), 2u);
+    EXPECT_EQ(got[2]->state().state(), v1::JOB_STATE_CANCELLED);
+    EXPECT_EQ(got[2]->sequence(), 3u);
+    EXPECT_TRUE(log->closed());
+    EXPECT_EQ(log->last_sequence(), 3u);
+  }
+  hub.flush();
+}
+
 
 // The store parses within its budget: past the deadline a parse stops with RESOURCE_EXHAUSTED
 // naming the flag (budget 0: the deadline has passed by the reader's first check), and a

@@ -15,10 +15,17 @@ namespace {
 
 constexpr int kCancelledCode = static_cast<int>(grpc::StatusCode::CANCELLED);
 
-// Schema migrations, in order: migration k brings the store from version k to k + 1.
+// Schema migrations, in order: migration k brings the store from version k to k + 1. Each
+// has a name, recorded in the store when applied (schema_migrations): a store migrated by
+// another build whose migration k differs is refused instead of trusted by its number.
 // {BLOB}, {SERIAL} stand for the dialect's byte and auto-numbered key types.
-const char* const kMigrations[] = {
-    R"(CREATE TABLE meshes (
+struct Migration {
+  const char* name;
+  const char* sql;
+};
+const Migration kMigrations[] = {
+    {"initial",
+     R"(CREATE TABLE meshes (
          id TEXT PRIMARY KEY, name TEXT NOT NULL, format TEXT NOT NULL, size_bytes BIGINT NOT NULL,
          bytes {BLOB} NOT NULL, created DOUBLE PRECISION NOT NULL);
        CREATE TABLE jobs (
@@ -47,15 +54,17 @@ const char* const kMigrations[] = {
        CREATE TABLE results (job_id TEXT PRIMARY KEY, body {BLOB} NOT NULL);
        CREATE TABLE checkpoints (
          job_id TEXT PRIMARY KEY, generation BIGINT NOT NULL, saved DOUBLE PRECISION NOT NULL, body {BLOB} NOT NULL);
-       CREATE TABLE expired_jobs (id TEXT PRIMARY KEY, expired DOUBLE PRECISION NOT NULL);)",
+       CREATE TABLE expired_jobs (id TEXT PRIMARY KEY, expired DOUBLE PRECISION NOT NULL);)"},
     // 1 -> 2: per-generation convergence, for the chart of a finished job (events keep only
     // the latest progress).
-    R"(CREATE TABLE progress_history (
+    {"progress_history",
+     R"(CREATE TABLE progress_history (
          job_id TEXT NOT NULL, generation BIGINT NOT NULL, best_energy DOUBLE PRECISION NOT NULL,
-         mean_energy DOUBLE PRECISION, PRIMARY KEY (job_id, generation));)",
+         mean_energy DOUBLE PRECISION, PRIMARY KEY (job_id, generation));)"},
     // 2 -> 3: the submitting client of each job, for --max-jobs-per-client across replicas.
-    R"(ALTER TABLE jobs ADD COLUMN client TEXT;
-       CREATE INDEX jobs_by_client ON jobs (client, state);)",
+    {"jobs_client",
+     R"(ALTER TABLE jobs ADD COLUMN client TEXT;
+       CREATE INDEX jobs_by_client ON jobs (client, state);)"},
 };
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));
 
@@ -176,18 +185,51 @@ void JobStore::migrate() {
   SqlTransaction tx(*s, d);
   // Replicas starting together: one migrates, the others wait for it here.
   if (d == SqlDialect::postgresql) s->exec("SELECT pg_advisory_xact_lock(4242424201)");
-  s->exec_script("CREATE TABLE IF NOT EXISTS schema_version (version BIGINT NOT NULL)");
+  // schema_version stays the number older depathd builds check; schema_migrations names
+  // what was applied.
+  s->exec_script(
+      "CREATE TABLE IF NOT EXISTS schema_version (version BIGINT NOT NULL);"
+      "CREATE TABLE IF NOT EXISTS schema_migrations (version BIGINT PRIMARY KEY, name TEXT NOT NULL)");
   auto rows = s->exec("SELECT version FROM schema_version").rows;
   int version = rows.empty() ? 0 : static_cast<int>(sql_int(rows[0][0]));
+  if (rows.empty()) s->exec("INSERT INTO schema_version (version) VALUES (0)");
+  const auto applied = s->exec("SELECT version, name FROM schema_migrations ORDER BY version").rows;
+  const std::string other_build = "it was written by another build of depathd (a development branch?): use "
+                                  "the depathd that wrote it, or another --data-dir / --store";
+  for (size_t k = 0; k < applied.size(); ++k) {
+    const int64_t number = sql_int(applied[k][0]);
+    const std::string name = sql_string(applied[k][1]);
+    if (number != static_cast<int64_t>(k) + 1 || number > version) {
+      throw StoreError("the store " + description_ + " records schema migration " + std::to_string(number) +
+                       " \"" + name + "\" out of order (schema version " + std::to_string(version) +
+                       "): " + other_build);
+    }
+    if (number <= kSchemaVersion && name != kMigrations[number - 1].name) {
+      throw StoreError("the store " + description_ + " has schema migration " + std::to_string(number) +
+                       " \"" + name + "\" where this depathd has \"" + kMigrations[number - 1].name +
+                       "\": " + other_build);
+    }
+  }
   if (version > kSchemaVersion) {
     throw StoreError("the store " + description_ + " has schema version " + std::to_string(version) +
                      ", newer than this depathd understands (" + std::to_string(kSchemaVersion) +
                      "): run a newer depathd");
   }
-  if (rows.empty()) s->exec("INSERT INTO schema_version (version) VALUES (0)");
+  // A store migrated before names were recorded: its number is all there is to go by.
+  for (int k = static_cast<int>(applied.size()); k < version; ++k) {
+    s->exec("INSERT INTO schema_migrations (version, name) VALUES ($1, $2)", {k + 1, kMigrations[k].name});
+  }
   for (; version < kSchemaVersion; ++version) {
-    s->exec_script(dialect_sql(kMigrations[version], d));
+    const Migration& m = kMigrations[version];
+    try {
+      s->exec_script(dialect_sql(m.sql, d));
+    } catch (const StoreError& e) {
+      throw StoreError("schema migration " + std::to_string(version + 1) + " \"" + m.name + "\" failed on the store " +
+                       description_ + " (" + e.what() + "): its schema is not what its version " +
+                       std::to_string(version) + " says; " + other_build);
+    }
     s->exec("UPDATE schema_version SET version = $1", {version + 1});
+    s->exec("INSERT INTO schema_migrations (version, name) VALUES ($1, $2)", {version + 1, m.name});
   }
   tx.commit();
 }

@@ -268,6 +268,35 @@ def test_store_errors():
     r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "sqlite:" + newer], capture_output=True,
                        text=True, timeout=30 * SCALE)
     check(r.returncode == 2 and "newer than this depathd" in r.stderr, "newer schema: " + r.stderr)
+    # A store is trusted by the names of its applied migrations, not by its version number.
+    fresh = os.path.join(WORK, "fresh.db")
+    d = Daemon(["--store", "sqlite:" + fresh])
+    check(d.stop() == 0, "a fresh store: exit status %s" % d.proc.returncode)
+    db = sqlite3.connect(fresh)
+    names = [n for (n,) in db.execute("SELECT name FROM schema_migrations ORDER BY version")]
+    version = db.execute("SELECT version FROM schema_version").fetchone()[0]
+    check(len(names) == version and names[0] == "initial" and len(set(names)) == len(names),
+          "recorded migrations %s at version %d" % (names, version))
+    db.execute("UPDATE schema_migrations SET name = 'from_a_branch' WHERE version = 2")
+    db.commit()
+    db.close()
+    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "sqlite:" + fresh], capture_output=True,
+                       text=True, timeout=30 * SCALE)
+    check(r.returncode == 2 and 'schema migration 2 "from_a_branch" where this depathd has "%s"' % names[1] in r.stderr
+          and "another build of depathd" in r.stderr, "a store migrated by another build: " + r.stderr)
+    # Stores from before names were recorded go by their number; one whose schema is not what
+    # the number says (a branch's migration 2 added what our 3 adds) is refused naming the step.
+    legacy = os.path.join(WORK, "legacy.db")
+    db = sqlite3.connect(legacy)
+    db.execute("CREATE TABLE jobs (number INTEGER PRIMARY KEY, id TEXT, state BIGINT, client TEXT)")
+    db.execute("CREATE TABLE schema_version (version BIGINT NOT NULL)")
+    db.execute("INSERT INTO schema_version VALUES (2)")
+    db.commit()
+    db.close()
+    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "sqlite:" + legacy], capture_output=True,
+                       text=True, timeout=30 * SCALE)
+    check(r.returncode == 2 and 'schema migration 3 "%s" failed' % names[2] in r.stderr
+          and "not what its version 2 says" in r.stderr, "a legacy store of another build: " + r.stderr)
     r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "mysql://x"], capture_output=True,
                        text=True, timeout=30 * SCALE)
     check(r.returncode == 2 and "unknown --store" in r.stderr, "bad uri: " + r.stderr)

@@ -7,7 +7,7 @@ from typing import Any, Iterable, Iterator, List, Optional, Sequence, Tuple
 import grpc
 
 from ._channel import PathOrPem, TlsOption, make_channel, resolve_tls, resolve_token
-from ._errors import NotFound, from_rpc_error
+from ._errors import DeadlineExceeded, NotFound, from_rpc_error
 from ._job import Job
 from ._meshes import MeshBytes, MeshLike, is_mesh_id, mesh_bytes
 from ._progress import ProgressOption
@@ -16,6 +16,9 @@ from ._spec import job_spec
 from .v1 import job_pb2, job_pb2_grpc, mesh_pb2, mesh_pb2_grpc
 
 _CHUNK_BYTES = 1 << 20
+# Deadline of an upload, and of a mesh lookup once connected: the server may parse the mesh
+# for either (a lookup reloads one it stored before a restart). As the CLI's.
+_MESH_SECONDS = 600.0
 
 
 class Client:
@@ -67,6 +70,15 @@ class Client:
         except grpc.RpcError as e:
             raise from_rpc_error(e, doing) from None
 
+    def _wait_connected(self, doing: str) -> None:
+        """Waits up to the client's timeout for the server; a call after this may take longer."""
+        try:
+            grpc.channel_ready_future(self._channel).result(timeout=self.timeout)
+        except grpc.FutureTimeoutError:
+            raise DeadlineExceeded(grpc.StatusCode.DEADLINE_EXCEEDED,
+                                   "no answer from the server at %s within %gs (is it running?)"
+                                   % (self.address, self.timeout), doing=doing) from None
+
     def _cancel_on_new_channel(self, job_id: str) -> None:
         """CancelJob over a channel of its own (best effort): for when a KeyboardInterrupt may
         have left this client's channel unusable."""
@@ -96,7 +108,10 @@ class Client:
         """The server's MeshInfo (counts, bounding box, warnings) for a mesh id, file or arrays.
         Raises NotFound when the server does not have it."""
         mesh_id = str(mesh) if is_mesh_id(mesh) else mesh_bytes(mesh).id
-        return self._call(self._meshes.GetMesh, mesh_pb2.GetMeshRequest(id=mesh_id), "looking up mesh " + mesh_id)
+        doing = "looking up mesh " + mesh_id
+        # The timeout bounds the wait for the server, not the lookup (it may parse the mesh).
+        self._wait_connected(doing)
+        return self._call(self._meshes.GetMesh, mesh_pb2.GetMeshRequest(id=mesh_id), doing, timeout=_MESH_SECONDS)
 
     def list_meshes(self) -> List[mesh_pb2.MeshInfo]:
         return list(self._call(self._meshes.ListMeshes, mesh_pb2.ListMeshesRequest(), "listing meshes").meshes)
@@ -120,7 +135,7 @@ class Client:
                 yield mesh_pb2.UploadMeshRequest(chunk=source.data[offset:offset + _CHUNK_BYTES])
 
         try:
-            return self._meshes.UploadMesh(requests(), metadata=self._metadata, timeout=max(self.timeout, 600.0),
+            return self._meshes.UploadMesh(requests(), metadata=self._metadata, timeout=max(self.timeout, _MESH_SECONDS),
                                            wait_for_ready=True)
         except grpc.RpcError as e:
             raise from_rpc_error(e, "uploading " + source.file_name) from None

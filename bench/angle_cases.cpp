@@ -14,6 +14,7 @@
 #include "depath/solve/solve.hpp"
 #include "../tests/angle_job.hpp"
 #include "../tests/random_cases.hpp"
+#include "bench_stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +26,8 @@
 #include <vector>
 
 namespace {
+
+using depath::bench::median;
 
 using namespace depath;
 
@@ -54,12 +57,6 @@ void diagnose_case(const test::AngleCase& c, int population, int generations, in
                 test::total_turning(c.mesh, job.energy, r.path), turning_3d(c.mesh, r.path), r.path.points.size(),
                 test::result_metric(r, "normalized_energy"));
   }
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n == 0 ? 0.0 : n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 }  // namespace

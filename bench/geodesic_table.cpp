@@ -20,8 +20,6 @@
 //   --threads      evaluation threads of each job (default 1: one core per path)
 //   --generations, --population   DE settings (default: the job defaults, 100 and 20)
 //   --pairs        at most N pairs per mesh (default all 12)
-#include <time.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -33,6 +31,7 @@
 #include <vector>
 
 #include "../tests/truth_tables.hpp"
+#include "bench_stats.hpp"
 #include "depath/decode/fast_marching.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/solve/solve.hpp"
@@ -40,19 +39,10 @@
 namespace {
 
 using namespace depath;
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t0) {
-  return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-// CPU seconds of the whole process (every thread): on a busy machine the wall time of a
-// path also counts the time other programs held the core.
-double cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
-}
+using bench::Clock;
+using bench::cpu_seconds;
+using bench::median;
+using bench::seconds_since;
 
 std::vector<std::string> split(const std::string& s) {
   std::vector<std::string> out;
@@ -62,13 +52,6 @@ std::vector<std::string> split(const std::string& s) {
     if (!item.empty()) out.push_back(item);
   }
   return out;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 struct Run {

@@ -29,6 +29,7 @@
 
 #include "../tests/angle_job.hpp"
 #include "../tests/random_cases.hpp"
+#include "bench_stats.hpp"
 #include "depath/generators/surfaces.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/io/vertex_data.hpp"
@@ -40,6 +41,8 @@
 #endif
 
 namespace {
+
+using depath::bench::median;
 
 using namespace depath;
 
@@ -155,11 +158,6 @@ void fig8() {
              test::result_metric(descent, "normalized_energy")),
         "de -> optimum, descent local", de.seconds + descent.seconds);
   }
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v.empty() ? NAN : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 
 void fig6(const std::string& data) {

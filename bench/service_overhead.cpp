@@ -10,6 +10,7 @@
 //                    [--threads N] [--watchers 100] [--repeat 3]
 #include "depath/v1/job.grpc.pb.h"
 #include "depath/v1/mesh.grpc.pb.h"
+#include "bench_stats.hpp"
 #include "depath/wire/wire.hpp"
 
 #include <CLI/CLI.hpp>
@@ -32,11 +33,11 @@
 
 namespace fs = std::filesystem;
 namespace v1 = depath::v1;
-using Clock = std::chrono::steady_clock;
+using depath::bench::Clock;
+using depath::bench::median;
+using depath::bench::seconds_since;
 
 namespace {
-
-double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 double run_timed(const std::string& command) {
   const auto t0 = Clock::now();
@@ -47,11 +48,6 @@ double run_timed(const std::string& command) {
     std::exit(1);
   }
   return s;
-}
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
 }
 
 long rss_kib(pid_t pid, const char* field = "VmRSS:") {

@@ -41,8 +41,6 @@
 //   --threads         evaluation threads (default 2, the setting)
 //   --max-iterations  caps every row's iterations (ratios stay per evaluation)
 //   --repeat          runs each row K times and keeps the fastest (the runs are identical)
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -59,6 +57,7 @@
 #include <vector>
 
 #include "../tests/job_builders.hpp"
+#include "bench_stats.hpp"
 #include "depath/generators/surfaces.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/io/vertex_data.hpp"
@@ -72,6 +71,7 @@
 namespace {
 
 using namespace depath;
+using depath::bench::cpu_seconds;
 
 // One line of paper/table1.csv.
 struct PaperRow {
@@ -285,13 +285,6 @@ bool selected(const std::string& rows, int number, const PaperRow& row) {
   return false;
 }
 
-double cpu_seconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_utime.tv_sec + usage.ru_stime.tv_sec +
-         1e-6 * (usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
-}
-
 struct Throughput {
   double generations_per_second = 0.0;
   double cores_used = 0.0;  // process CPU time / wall time over the timed generations
@@ -459,9 +452,9 @@ int main(int argc, char** argv) {
       double wall = INFINITY, cpu = 0.0;
       for (int k = 0; k < repeat; ++k) {
         const double cpu0 = cpu_seconds();
-        const auto t0 = std::chrono::steady_clock::now();
+        const auto t0 = bench::Clock::now();
         SolveResult run = solve(e.mesh, job);
-        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const double seconds = bench::seconds_since(t0);
         if (seconds < wall) {
           wall = seconds;
           cpu = cpu_seconds() - cpu0;

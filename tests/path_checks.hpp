@@ -4,6 +4,7 @@
 
 #include "depath/mesh/mesh.hpp"
 #include "depath/mesh/surface_path.hpp"
+#include "depath/solve/solve.hpp"
 
 #include <gtest/gtest.h>
 
@@ -34,6 +35,26 @@ inline ::testing::AssertionResult is_valid_path(const Mesh& mesh, const SurfaceP
     if (!point_in_face(mesh, path.points[i], f) || !point_in_face(mesh, path.points[i + 1], f))
       return ::testing::AssertionFailure() << "segment " << i << " does not lie in face " << f;
   }
+  return ::testing::AssertionSuccess();
+}
+
+/// Two results bit for bit: every point (vertex ids, edge parameter) and face of the path,
+/// the energies, generations, evaluations and stop reason (not the times).
+inline ::testing::AssertionResult identical_results(const SolveResult& a, const SolveResult& b) {
+  if (a.path.points.size() != b.path.points.size())
+    return ::testing::AssertionFailure() << a.path.points.size() << " points against " << b.path.points.size();
+  for (size_t i = 0; i < a.path.points.size(); ++i) {
+    const SurfacePoint &p = a.path.points[i], &q = b.path.points[i];
+    if (p.v0 != q.v0 || p.v1 != q.v1 || p.t != q.t) return ::testing::AssertionFailure() << "point " << i << " differs";
+  }
+  if (a.path.segment_faces != b.path.segment_faces) return ::testing::AssertionFailure() << "the faces differ";
+  if (a.energy != b.energy || a.fmm_energy != b.fmm_energy)
+    return ::testing::AssertionFailure() << "energy " << a.energy << " / " << b.energy << ", fmm energy "
+                                         << a.fmm_energy << " / " << b.fmm_energy;
+  if (a.generations != b.generations || a.evaluations != b.evaluations || a.stop_reason != b.stop_reason)
+    return ::testing::AssertionFailure() << "generations " << a.generations << " / " << b.generations
+                                         << ", evaluations " << a.evaluations << " / " << b.evaluations
+                                         << ", stop reason " << a.stop_reason << " / " << b.stop_reason;
   return ::testing::AssertionSuccess();
 }
 

@@ -12,6 +12,7 @@
 #include "depath/solve/solve.hpp"
 #include "depath/util/error.hpp"
 #include "job_builders.hpp"
+#include "path_checks.hpp"
 #include "test_support.hpp"
 
 namespace depath {
@@ -20,22 +21,6 @@ namespace {
 const Mesh& kitten() {
   static const Mesh mesh = load_mesh(test::test_data("kitten.off"));
   return mesh;
-}
-
-// Bit for bit: every point (vertex ids, edge parameter), every face, the figures.
-void expect_identical(const SolveResult& a, const SolveResult& b) {
-  ASSERT_EQ(a.path.points.size(), b.path.points.size());
-  for (size_t i = 0; i < a.path.points.size(); ++i) {
-    EXPECT_EQ(a.path.points[i].v0, b.path.points[i].v0) << "point " << i;
-    EXPECT_EQ(a.path.points[i].v1, b.path.points[i].v1) << "point " << i;
-    EXPECT_EQ(a.path.points[i].t, b.path.points[i].t) << "point " << i;
-  }
-  EXPECT_EQ(a.path.segment_faces, b.path.segment_faces);
-  EXPECT_EQ(a.energy, b.energy);
-  EXPECT_EQ(a.fmm_energy, b.fmm_energy);
-  EXPECT_EQ(a.generations, b.generations);
-  EXPECT_EQ(a.evaluations, b.evaluations);
-  EXPECT_EQ(a.stop_reason, b.stop_reason);
 }
 
 std::vector<JobSpec> jobs() {
@@ -66,8 +51,8 @@ TEST(CachedStencils, SolveWithTheCallersStencilsBuildsNoneAndGivesTheSameResult)
     const SolveResult first = solve(mesh, job, hooks);
     const SolveResult second = solve(mesh, job, hooks);
     EXPECT_EQ(FastMarchingStencils::builds(), before + 1) << "solve() rebuilt the stencils it was given";
-    expect_identical(own, first);
-    expect_identical(own, second);
+    EXPECT_TRUE(test::identical_results(own, first));
+    EXPECT_TRUE(test::identical_results(own, second));
   }
 }
 

@@ -11,6 +11,7 @@
 #include "depath/util/error.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/solve/solve.hpp"
+#include "path_checks.hpp"
 #include "test_support.hpp"
 
 namespace depath {
@@ -30,18 +31,6 @@ JobSpec de_job(const std::string& strategy, int generations, bool refine) {
   return job;
 }
 
-void expect_same(const SolveResult& a, const SolveResult& b, const std::string& what) {
-  ASSERT_EQ(a.path.points.size(), b.path.points.size()) << what;
-  for (size_t i = 0; i < a.path.points.size(); ++i) {
-    const SurfacePoint &p = a.path.points[i], &q = b.path.points[i];
-    EXPECT_TRUE(p.v0 == q.v0 && p.v1 == q.v1 && p.t == q.t) << what << " point " << i;
-  }
-  EXPECT_EQ(a.energy, b.energy) << what;  // bit-identical, not approximately
-  EXPECT_EQ(a.generations, b.generations) << what;
-  EXPECT_EQ(a.evaluations, b.evaluations) << what;
-  EXPECT_EQ(a.stop_reason, b.stop_reason) << what;
-}
-
 // Every checkpoint the uninterrupted run offers (one per generation), resumed each in turn.
 void check_resume_everywhere(const Mesh& mesh, const JobSpec& job, int stride) {
   std::map<int, std::string> checkpoints;
@@ -56,8 +45,8 @@ void check_resume_everywhere(const Mesh& mesh, const JobSpec& job, int stride) {
     if (generation % stride != 0 && generation != job.de.generations - 1) continue;
     SolveHooks resume;
     resume.resume_from = bytes;
-    expect_same(full, solve(mesh, job, resume),
-                job.de.strategy + " resumed after generation " + std::to_string(generation));
+    EXPECT_TRUE(test::identical_results(full, solve(mesh, job, resume)))
+        << job.de.strategy << " resumed after generation " << generation;
   }
 }
 
@@ -93,7 +82,7 @@ TEST(DeResume, SuspendCheckpointsAndStopsThenResumeFinishes) {
   EXPECT_EQ(decode_de_state(saved).generation, 12);
   SolveHooks resume;
   resume.resume_from = saved;
-  expect_same(full, solve(mesh, job, resume), "resumed after a suspend");
+  EXPECT_TRUE(test::identical_results(full, solve(mesh, job, resume))) << "resumed after a suspend";
 }
 
 TEST(DeResume, CheckpointSizeIsThePopulationAndArchive) {

@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // The live convergence chart (uPlot): best and mean energy per generation. Points come from
-// the job's stored history (GET /v1/jobs/{id}/progress) and one progress event at a time; a redraw is coalesced to one per animation frame. The number of
-// points drawn is kept in the container's data-points attribute (tests and users can read it).
+// the job's stored history (GET /v1/jobs/{id}/progress) and one progress event at a time; a
+// redraw is coalesced to one per animation frame. The number of points drawn is kept in the
+// container's data-points attribute (tests and users can read it).
 
 import uPlot from 'uplot';
 import 'uplot/dist/uPlot.min.css';

@@ -173,6 +173,7 @@ export class MeshView {
     if (this.fieldLines) {
       this.scene.remove(this.fieldLines);
       this.fieldLines.geometry.dispose();
+      this.fieldLines.material.dispose();
     }
     this.fieldLines = null;
     this.container.dataset.fieldSegments = '0';

@@ -69,8 +69,9 @@ struct SolveHooks {
 };
 
 /// Validates and runs a job. Throws Error (invalid_argument, failed_precondition) for bad
-/// jobs, and invalid_argument for hooks.stencils built from another mesh object. Results are reproducible: same mesh, job and seed give the same path and energy
-/// whatever the number of threads.
+/// jobs, and invalid_argument for hooks.stencils built from another mesh object. Results
+/// are reproducible: same mesh, job and seed give the same path and energy whatever the
+/// number of threads.
 SolveResult solve(const Mesh& mesh, const JobSpec& job, const SolveHooks& hooks = {});
 
 }  // namespace depath

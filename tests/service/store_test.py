@@ -255,19 +255,30 @@ def test_ttl_sqlite():
         check(rows == 0, "%d rows left in %s after the TTL" % (rows, table))
 
 
-def test_store_errors():
-    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "postgresql://postgres@127.0.0.1:1/x"],
-                       capture_output=True, text=True, timeout=30 * SCALE)
-    check(r.returncode == 2 and "cannot connect to the PostgreSQL store" in r.stderr, "unreachable: " + r.stderr)
-    newer = os.path.join(WORK, "newer.db")
-    db = sqlite3.connect(newer)
-    db.execute("CREATE TABLE schema_version (version BIGINT NOT NULL)")
-    db.execute("INSERT INTO schema_version VALUES (999)")
+def refused(store):
+    """depathd's exit status and message for --store STORE (a store it refuses exits at once)."""
+    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", store], capture_output=True, text=True,
+                       timeout=30 * SCALE)
+    return r.returncode, r.stderr
+
+
+def sqlite_file(name, *statements):
+    path = os.path.join(WORK, name)
+    db = sqlite3.connect(path)
+    for sql in statements:
+        db.execute(sql)
     db.commit()
     db.close()
-    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "sqlite:" + newer], capture_output=True,
-                       text=True, timeout=30 * SCALE)
-    check(r.returncode == 2 and "newer than this depathd" in r.stderr, "newer schema: " + r.stderr)
+    return path
+
+
+def test_store_errors():
+    code, err = refused("postgresql://postgres@127.0.0.1:1/x")
+    check(code == 2 and "cannot connect to the PostgreSQL store" in err, "unreachable: " + err)
+    newer = sqlite_file("newer.db", "CREATE TABLE schema_version (version BIGINT NOT NULL)",
+                        "INSERT INTO schema_version VALUES (999)")
+    code, err = refused("sqlite:" + newer)
+    check(code == 2 and "newer than this depathd" in err, "newer schema: " + err)
     # A store is trusted by the names of its applied migrations, not by its version number.
     fresh = os.path.join(WORK, "fresh.db")
     d = Daemon(["--store", "sqlite:" + fresh])
@@ -280,26 +291,19 @@ def test_store_errors():
     db.execute("UPDATE schema_migrations SET name = 'from_a_branch' WHERE version = 2")
     db.commit()
     db.close()
-    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "sqlite:" + fresh], capture_output=True,
-                       text=True, timeout=30 * SCALE)
-    check(r.returncode == 2 and 'schema migration 2 "from_a_branch" where this depathd has "%s"' % names[1] in r.stderr
-          and "another build of depathd" in r.stderr, "a store migrated by another build: " + r.stderr)
+    code, err = refused("sqlite:" + fresh)
+    check(code == 2 and 'schema migration 2 "from_a_branch" where this depathd has "%s"' % names[1] in err
+          and "another build of depathd" in err, "a store migrated by another build: " + err)
     # Stores from before names were recorded go by their number; one whose schema is not what
     # the number says (a branch's migration 2 added what our 3 adds) is refused naming the step.
-    legacy = os.path.join(WORK, "legacy.db")
-    db = sqlite3.connect(legacy)
-    db.execute("CREATE TABLE jobs (number INTEGER PRIMARY KEY, id TEXT, state BIGINT, client TEXT)")
-    db.execute("CREATE TABLE schema_version (version BIGINT NOT NULL)")
-    db.execute("INSERT INTO schema_version VALUES (2)")
-    db.commit()
-    db.close()
-    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "sqlite:" + legacy], capture_output=True,
-                       text=True, timeout=30 * SCALE)
-    check(r.returncode == 2 and 'schema migration 3 "%s" failed' % names[2] in r.stderr
-          and "not what its version 2 says" in r.stderr, "a legacy store of another build: " + r.stderr)
-    r = subprocess.run([ARGS.depathd, "--listen", "127.0.0.1:0", "--store", "mysql://x"], capture_output=True,
-                       text=True, timeout=30 * SCALE)
-    check(r.returncode == 2 and "unknown --store" in r.stderr, "bad uri: " + r.stderr)
+    legacy = sqlite_file("legacy.db", "CREATE TABLE jobs (number INTEGER PRIMARY KEY, id TEXT, state BIGINT, client TEXT)",
+                         "CREATE TABLE schema_version (version BIGINT NOT NULL)",
+                         "INSERT INTO schema_version VALUES (2)")
+    code, err = refused("sqlite:" + legacy)
+    check(code == 2 and 'schema migration 3 "%s" failed' % names[2] in err and "not what its version 2 says" in err,
+          "a legacy store of another build: " + err)
+    code, err = refused("mysql://x")
+    check(code == 2 and "unknown --store" in err, "bad uri: " + err)
 
 
 class Postgres:

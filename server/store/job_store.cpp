@@ -535,10 +535,19 @@ bool JobStore::finish(const std::string& id, const std::string& owner, const v1:
       s->exec("DELETE FROM events WHERE job_id = $1 AND progress <> 0", {id});
       s->exec("UPDATE jobs SET progress = $1 WHERE id = $2", {sql_blob(summary.SerializeAsString()), id});
     }
+    // The result event's payload is the results row: stored once (events_after puts it back).
+    std::string body;
+    if (e.has_result()) {
+      v1::JobEvent marker = e;
+      marker.mutable_result()->Clear();
+      body = marker.SerializeAsString();
+    } else {
+      body = e.SerializeAsString();
+    }
     s->exec(
         "INSERT INTO events (job_id, sequence, progress, body) VALUES ($1, $2, $3, $4) ON CONFLICT DO "
         "NOTHING",
-        {id, static_cast<int64_t>(e.sequence()), e.has_progress() ? 1 : 0, sql_blob(e.SerializeAsString())});
+        {id, static_cast<int64_t>(e.sequence()), e.has_progress() ? 1 : 0, sql_blob(body)});
   }
   add_history(*s, id, history);
   s->exec("DELETE FROM checkpoints WHERE job_id = $1", {id});
@@ -652,6 +661,11 @@ std::vector<v1::JobEvent> JobStore::events_after(const std::string& id, uint64_t
            .rows) {
     v1::JobEvent e;
     if (!e.ParseFromString(sql_string(r[0]))) throw StoreError("job " + id + ": a stored event is damaged");
+    if (e.has_result() && e.result().ByteSizeLong() == 0) {  // stored without its payload (finish)
+      auto result = s->exec("SELECT body FROM results WHERE job_id = $1", {id}).rows;
+      if (result.empty() || !e.mutable_result()->ParseFromString(sql_string(result[0][0])))
+        throw StoreError("job " + id + ": the stored result is missing or damaged");
+    }
     out.push_back(std::move(e));
   }
   return out;

@@ -974,6 +974,60 @@ TEST(ServiceJobStore, FinishedJobsKeepNoPerVertexArrays) {
   EXPECT_EQ(store->get_result("job-run")->energy(), 1);
 }
 
+// A finished job's result is stored once: its result event keeps no copy of the path (the
+// results row is its payload), and reading the events back gives the whole result.
+TEST(ServiceJobStore, AResultIsStoredOnceAndReadBackWhole) {
+  const auto dir = std::filesystem::temp_directory_path() / ("depath_result_once_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "store.db").string();
+  v1::JobResult result;
+  result.set_energy(2.5);
+  result.set_stop_reason("converged");
+  for (int i = 0; i < 500; ++i) {
+    auto* p = result.mutable_path()->add_points();
+    p->set_x(i);
+    p->set_y(0.5 * i);
+    result.mutable_path()->add_segment_faces(i);
+  }
+  v1::JobEvent result_event;
+  result_event.set_job_id("job-r");
+  result_event.set_sequence(2);
+  *result_event.mutable_result() = result;
+  v1::JobEvent done;
+  done.set_job_id("job-r");
+  done.set_sequence(3);
+  done.mutable_state()->set_state(v1::JOB_STATE_SUCCEEDED);
+  {
+    const auto store = service::JobStore::open("sqlite:" + path);
+    service::JobRecord record;
+    record.id = "job-r";
+    record.mesh_id = "m";
+    v1::JobEvent queued;
+    queued.mutable_state()->set_state(v1::JOB_STATE_QUEUED);
+    store->insert_job(record, queued);
+    ASSERT_TRUE(store->claim("owner", 1.0, 600));
+    ASSERT_TRUE(store->finish("job-r", "owner", &result, {result_event, done}));
+    const auto events = store->events_after("job-r", 1);
+    ASSERT_EQ(events.size(), 2u);
+    EXPECT_EQ(events[0].SerializeAsString(), result_event.SerializeAsString());
+    EXPECT_EQ(events[1].SerializeAsString(), done.SerializeAsString());
+    EXPECT_EQ(store->get_result("job-r")->SerializeAsString(), result.SerializeAsString());
+  }
+  {
+    const auto db = service::open_sqlite(path);
+    auto s = db->session();
+    const auto event_bytes =
+        service::sql_int(s->exec("SELECT length(body) FROM events WHERE job_id = $1 AND sequence = 2", {"job-r"})
+                             .rows.at(0)
+                             .at(0));
+    EXPECT_LT(event_bytes, 64) << "the result event stores the path again";
+    EXPECT_EQ(service::sql_int(s->exec("SELECT length(body) FROM results WHERE job_id = $1", {"job-r"}).rows.at(0).at(0)),
+              static_cast<int64_t>(result.ByteSizeLong()));
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // The progress history: every generation while under kProgressHistoryPoints, then the first,
 // the multiples of a doubling stride and the latest; written only by the lease holder (with
 // progress, checkpoints and the finish), unchanged by repeated generations of a resumed run,

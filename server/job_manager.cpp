@@ -255,7 +255,6 @@ v1::JobInfo JobManager::get(const std::string& job_id) {
 }
 
 std::vector<ProgressPoint> JobManager::progress_history(const std::string& job_id) {
-  find(job_id);  // NOT_FOUND for an unknown job
   // The runner's points not stored yet first: read after them, the store has every point
   // they lose to a concurrent flush.
   std::vector<ProgressPoint> unstored;
@@ -265,6 +264,9 @@ std::vector<ProgressPoint> JobManager::progress_history(const std::string& job_i
     if (run != running_.end()) unstored = run->second->unstored_history;
   }
   std::vector<ProgressPoint> history = store_.progress_history(job_id);
+  // Points name a job that exists; without any, read the job (with its spec) only to answer
+  // NOT_FOUND for an unknown one.
+  if (history.empty() && unstored.empty()) find(job_id);
   const int stored_upto = history.empty() ? -1 : history.back().generation;
   for (const auto& p : unstored) {
     if (p.generation > stored_upto) history.push_back(p);

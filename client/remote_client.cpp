@@ -55,8 +55,8 @@ constexpr double kMeshLookupSeconds = 600;
 
 /// The wall-clock time `seconds` from now (gRPC deadlines are system_clock time points).
 std::chrono::system_clock::time_point from_now(double seconds) {
-  return std::chrono::system_clock::now() +
-         std::chrono::duration_cast<std::chrono::system_clock::duration>(std::chrono::duration<double>(seconds));
+  return std::chrono::system_clock::now() + std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                                                std::chrono::duration<double>(seconds));
 }
 
 /// "//authority/rest" -> "rest"; anything else unchanged.

@@ -694,7 +694,8 @@ void JobManager::finish(Running& run, v1::JobState state, int code, const std::s
   // The store keeps the latest progress too (watchers after the end see what live ones saw).
   std::vector<v1::JobEvent> stored = events;
   if (run.unstored_progress) stored.insert(stored.begin(), *run.unstored_progress);
-  if (run.lost.load() || !store_.finish(run.id, replica_, result.get(), stored, run.history_to_store(mutex_))) {
+  if (run.lost.load() ||
+      !store_.finish(run.id, replica_, result.get(), stored, run.history_to_store(mutex_))) {
     log_.warn("job.lease_lost",
               {{"job", run.id}, {"reason", "finished elsewhere or taken over; result dropped"}});
     return;

@@ -53,6 +53,12 @@ constexpr size_t kChunkBytes = 1 << 20;
 /// Deadline of an upload, and of a mesh lookup once connected (the server may parse the mesh).
 constexpr double kMeshLookupSeconds = 600;
 
+/// The wall-clock time `seconds` from now (gRPC deadlines are system_clock time points).
+std::chrono::system_clock::time_point from_now(double seconds) {
+  return std::chrono::system_clock::now() + std::chrono::duration_cast<std::chrono::system_clock::duration>(
+                                                std::chrono::duration<double>(seconds));
+}
+
 /// "//authority/rest" -> "rest"; anything else unchanged.
 std::string strip_authority(const std::string& s) {
   if (s.rfind("//", 0) != 0) return s;
@@ -243,11 +249,7 @@ RemoteClient::RemoteClient(const RemoteOptions& options) : options_(options) {
 std::unique_ptr<grpc::ClientContext> RemoteClient::context(double timeout_seconds) const {
   auto ctx = std::make_unique<grpc::ClientContext>();
   if (!options_.token.empty()) ctx->AddMetadata("authorization", "Bearer " + options_.token);
-  if (timeout_seconds > 0) {
-    ctx->set_deadline(std::chrono::system_clock::now() +
-                      std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                          std::chrono::duration<double>(timeout_seconds)));
-  }
+  if (timeout_seconds > 0) ctx->set_deadline(from_now(timeout_seconds));
   ctx->set_wait_for_ready(false);
   return ctx;
 }
@@ -265,11 +267,8 @@ void RemoteClient::check(const grpc::Status& status, const std::string& doing) c
 
 v1::MeshInfo RemoteClient::upload(const std::string& path, const std::string& format) {
   const std::string bytes = read_file_bytes(path);
-  auto ctx = context();
+  auto ctx = context(kMeshLookupSeconds);
   ctx->set_wait_for_ready(true);
-  ctx->set_deadline(std::chrono::system_clock::now() +
-                    std::chrono::duration_cast<std::chrono::system_clock::duration>(
-                        std::chrono::duration<double>(kMeshLookupSeconds)));
   v1::MeshInfo info;
   auto writer = meshes_->UploadMesh(ctx.get(), &info);
   v1::UploadMeshRequest request;
@@ -292,10 +291,7 @@ v1::MeshInfo RemoteClient::ensure_mesh(const std::string& path, bool* uploaded, 
   const std::string id = wire::sha256_hex(read_file_bytes(path));
   // --connect-timeout bounds the wait for the server, not the lookup: a mesh the server stored
   // before a restart is reloaded (parsed) for it, which takes as long as an upload's parse.
-  const bool connected = channel_->WaitForConnected(
-      std::chrono::system_clock::now() +
-      std::chrono::duration_cast<std::chrono::system_clock::duration>(
-          std::chrono::duration<double>(options_.connect_timeout_seconds)));
+  const bool connected = channel_->WaitForConnected(from_now(options_.connect_timeout_seconds));
   auto ctx = context(connected ? kMeshLookupSeconds : options_.connect_timeout_seconds);
   ctx->set_wait_for_ready(true);
   v1::GetMeshRequest request;

@@ -68,6 +68,20 @@ struct JobManager::Running {
   std::optional<v1::Progress> last_progress;
   std::vector<ProgressPoint> unstored_history;  // generations not in the store's history yet
   double started = 0;
+
+  /// A copy of unstored_history, for a store write outside the lock (`mutex`: JobManager's).
+  std::vector<ProgressPoint> history_to_store(std::mutex& mutex) {
+    std::lock_guard lock(mutex);
+    return unstored_history;
+  }
+  /// The store took `points` (a copy from history_to_store): they leave unstored_history,
+  /// the generations reported since stay.
+  void history_stored(std::mutex& mutex, const std::vector<ProgressPoint>& points) {
+    if (points.empty()) return;
+    const int upto = points.back().generation;
+    std::lock_guard lock(mutex);
+    std::erase_if(unstored_history, [upto](const ProgressPoint& p) { return p.generation <= upto; });
+  }
 };
 
 JobManager::JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub,
@@ -241,7 +255,6 @@ v1::JobInfo JobManager::get(const std::string& job_id) {
 }
 
 std::vector<ProgressPoint> JobManager::progress_history(const std::string& job_id) {
-  find(job_id);  // NOT_FOUND for an unknown job
   // The runner's points not stored yet first: read after them, the store has every point
   // they lose to a concurrent flush.
   std::vector<ProgressPoint> unstored;
@@ -251,6 +264,9 @@ std::vector<ProgressPoint> JobManager::progress_history(const std::string& job_i
     if (run != running_.end()) unstored = run->second->unstored_history;
   }
   std::vector<ProgressPoint> history = store_.progress_history(job_id);
+  // Points name a job that exists; without any, read the job (with its spec) only to answer
+  // NOT_FOUND for an unknown one.
+  if (history.empty() && unstored.empty()) find(job_id);
   const int stored_upto = history.empty() ? -1 : history.back().generation;
   for (const auto& p : unstored) {
     if (p.generation > stored_upto) history.push_back(p);
@@ -421,16 +437,9 @@ bool JobManager::emit(Running& run, v1::JobEvent event, bool persist) {
     // it is busy, this one stays unstored and a later one (or the finish) is stored instead.
     auto stored = JobStore::Append::busy;
     std::vector<ProgressPoint> history;
-    if (persist && event.has_progress()) {
-      std::lock_guard lock(mutex_);
-      history = run.unstored_history;
-    }
+    if (persist && event.has_progress()) history = run.history_to_store(mutex_);
     if (persist) stored = store_.append_event(run.id, replica_, event, !event.has_progress(), history);
-    if (stored == JobStore::Append::stored && !history.empty()) {
-      std::lock_guard lock(mutex_);  // the points stored; later ones stay
-      const int upto = history.back().generation;
-      std::erase_if(run.unstored_history, [upto](const ProgressPoint& p) { return p.generation <= upto; });
-    }
+    if (stored == JobStore::Append::stored) run.history_stored(mutex_, history);
     if (stored == JobStore::Append::lost) {
       run.lost.store(true);
       run.cancel.store(true);
@@ -552,11 +561,8 @@ void JobManager::execute(Running& run, const JobRecord& job) {
         if (!store_.put_checkpoint(id, replica_, generation, bytes, history)) {
           run.lost.store(true);
           run.cancel.store(true);
-        } else if (!history.empty()) {
-          std::lock_guard lock(mutex_);
-          const int upto = history.back().generation;
-          std::erase_if(run.unstored_history,
-                        [upto](const ProgressPoint& p) { return p.generation <= upto; });
+        } else {
+          run.history_stored(mutex_, history);
         }
         log_.debug(
             "job.checkpointed",
@@ -688,12 +694,8 @@ void JobManager::finish(Running& run, v1::JobState state, int code, const std::s
   // The store keeps the latest progress too (watchers after the end see what live ones saw).
   std::vector<v1::JobEvent> stored = events;
   if (run.unstored_progress) stored.insert(stored.begin(), *run.unstored_progress);
-  std::vector<ProgressPoint> history;
-  {
-    std::lock_guard lock(mutex_);
-    history = run.unstored_history;
-  }
-  if (run.lost.load() || !store_.finish(run.id, replica_, result.get(), stored, history)) {
+  if (run.lost.load() ||
+      !store_.finish(run.id, replica_, result.get(), stored, run.history_to_store(mutex_))) {
     log_.warn("job.lease_lost",
               {{"job", run.id}, {"reason", "finished elsewhere or taken over; result dropped"}});
     return;

@@ -51,6 +51,9 @@ class JobManager {
   /// in the store, on whichever replicas share it.
   v1::SubmitJobResponse submit(const v1::SubmitJobRequest& request, const std::string& client = "");
   v1::JobInfo get(const std::string& job_id);
+  /// The job as stored, with its whole spec (JobInfo's leaves out the per-vertex arrays; the
+  /// store keeps them until the job finishes). NOT_FOUND as get().
+  JobRecord record(const std::string& job_id) { return find(job_id); }
   v1::JobResult result(const std::string& job_id);
   /// Best and mean energy per generation so far (the store's history and, for a job running
   /// here, the generations not stored yet), thinned as store/job_store.hpp says.

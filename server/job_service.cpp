@@ -19,11 +19,8 @@ namespace {
 class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
  public:
   WatchReactor(ServiceContext& ctx, std::shared_ptr<EventLog> log, uint64_t after_sequence)
-      : ctx_(ctx), log_(std::move(log)), cursor_(after_sequence), sub_(std::make_shared<Subscriber>(this)) {
-    log_->subscribe(sub_);
-    ctx_.metrics.watcher_started("grpc");
-    std::lock_guard lock(sub_->mutex);
-    pump_locked();
+      : ctx_(ctx), cursor_(after_sequence) {
+    start(std::move(log));
     grpc_handoff(this);  // a write started here waits for the handler to return
   }
 
@@ -38,6 +35,8 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
   /// calls OnDone only after Finish, so the reactor lives until then.
   explicit WatchReactor(ServiceContext& ctx) : ctx_(ctx) { grpc_handoff(this); }
 
+  /// Subscribes to `log` and sends what it has after the cursor (the first constructor's, in
+  /// its constructor; a deferred stream's, once its job is submitted).
   void start(std::shared_ptr<EventLog> log) {
     auto sub = std::make_shared<Subscriber>(this);
     bool cancelled;

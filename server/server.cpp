@@ -222,7 +222,7 @@ void Server::add_state_collector(Impl& s) {
                                      v1::JOB_STATE_FAILED, v1::JOB_STATE_CANCELLED}) {
       r.set("depath_jobs", {{"state", wire::state_name(state)}}, static_cast<double>(by_state[state]));
     }
-    r.set("depath_queue_depth", {}, s.jobs.queued_jobs());
+    r.set("depath_queue_depth", {}, static_cast<double>(by_state[v1::JOB_STATE_QUEUED]));  // the same count
     r.set("depath_running_jobs", {}, s.jobs.running_jobs());
     const MeshCacheStats c = s.meshes.cache_stats();
     r.set("depath_mesh_cache_bytes", {}, static_cast<double>(c.bytes));

@@ -160,20 +160,21 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
   server.Get(R"(/v1/jobs/([^/]+)/field)", [&ctx](const httplib::Request& req, httplib::Response& res) {
     api_call(ctx, req, res, false, [&] {
       const std::string id = req.matches[1];
-      const v1::JobInfo info = ctx.service.jobs.get(id);
-      const JobSpec spec = wire::job_from_proto(info.spec());
+      const JobRecord job = ctx.service.jobs.record(id);  // not get(): its spec has no field
+      JobSpec spec = wire::job_from_proto(job.spec);
       if (spec.energy.kind != EnergyKind::vector_field)
         throw ServiceError(grpc::StatusCode::FAILED_PRECONDITION,
                            "job " + id + " has no field: its energy is " + energy_kind_name(spec.energy.kind));
       if (!spec.energy.field_from_height && spec.energy.field.empty())
         throw ServiceError(grpc::StatusCode::FAILED_PRECONDITION,
-                           "job " + id + " is " + wire::state_name(info.state()) +
+                           "job " + id + " is " + wire::state_name(job.state) +
                                ": a finished job keeps its result, not the field it was given");
-      const auto lease = ctx.service.meshes.acquire(info.mesh_id());
+      // A given field is the answer as it is; only a height field needs the mesh (maybe reloaded).
       const std::vector<Vec3> field =
           spec.energy.field_from_height
-              ? height_gradient_field(lease->mesh(), spec.energy.up_axis, spec.energy.rotate_degrees)
-              : spec.energy.field;
+              ? height_gradient_field(ctx.service.meshes.acquire(job.mesh_id)->mesh(), spec.energy.up_axis,
+                                      spec.energy.rotate_degrees)
+              : std::move(spec.energy.field);
       res.set_content(field_json(field), "application/json; charset=utf-8");  // not brotli: see static_files.cpp
     });
   });

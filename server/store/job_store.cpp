@@ -569,6 +569,7 @@ void JobStore::add_history(SqlSession& s, const std::string& id, std::vector<Pro
                points.end());
   const int latest = points.back().generation;
   const int stride = progress_history_stride(latest);
+  thin_progress_history(points, latest);  // what the stride keeps, with the first and the latest
   // One statement per 200 points (a fast job stores hundreds of generations per progress write).
   std::string sql;
   std::vector<SqlParam> params;
@@ -581,9 +582,7 @@ void JobStore::add_history(SqlSession& s, const std::string& id, std::vector<Pro
     sql.clear();
     params.clear();
   };
-  for (size_t i = 0; i < points.size(); ++i) {
-    const ProgressPoint& p = points[i];
-    if (p.generation % stride != 0 && i + 1 != points.size() && i != 0) continue;
+  for (const ProgressPoint& p : points) {
     if (!std::isfinite(p.best_energy)) continue;  // no agent decoded yet
     const size_t k = params.size();
     sql += (k ? ",($" : "($") + std::to_string(k + 1) + ",$" + std::to_string(k + 2) + ",$" +

@@ -477,6 +477,19 @@ def test_history(d, mesh_id):
     check(len(f) == 81 * 3, "field of %d numbers for 81 vertices" % len(f))
     # each vector lies in the horizontal plane's projection of the gradient: not all zero, finite
     check(any(abs(x) > 1e-6 for x in f) and all(x == x for x in f), "field values %s" % f[:9])
+    # a field given with the job is answered as given (quarters: exact in single precision) while
+    # the job is not finished
+    given = [[(v % 5) * 0.25, 1.0 - (v % 3) * 0.25, 0.0] for v in range(81)]
+    s, reply = post_json(d, "/v1/jobs", {"mesh_id": peaks_id, "source": 0, "target": 80, "energy": "vector_field",
+                                         "field": given, "population": 40, "generations": 100000}, token=None)
+    check(s == 200, "given-field job %s" % reply)
+    f = get_json(d, "/v1/jobs/%s/field" % reply["id"], token=None)["field"]
+    check(f == [x for v in given for x in v], "given field answered as %s..." % f[:9])
+    s, b = post_json(d, "/v1/jobs/%s/cancel" % reply["id"], {})
+    check(s == 200, "cancel the given-field job: %d %s" % (s, b))
+    wait_state(d, reply["id"], ("cancelled",), 60)
+    s, _, b = request(d, "GET", "/v1/jobs/%s/field" % reply["id"], token=None)
+    expect_error(s, json.loads(b), 409, "FAILED_PRECONDITION", "a finished job keeps its result")
 
 
 def test_history_restart(depathd):

@@ -72,9 +72,11 @@ class Client:
 
     def _wait_connected(self, doing: str) -> None:
         """Waits up to the client's timeout for the server; a call after this may take longer."""
+        ready = grpc.channel_ready_future(self._channel)
         try:
-            grpc.channel_ready_future(self._channel).result(timeout=self.timeout)
+            ready.result(timeout=self.timeout)
         except grpc.FutureTimeoutError:
+            ready.cancel()  # else it stays subscribed to the channel, which keeps trying to connect
             raise DeadlineExceeded(grpc.StatusCode.DEADLINE_EXCEEDED,
                                    "no answer from the server at %s within %gs (is it running?)"
                                    % (self.address, self.timeout), doing=doing) from None

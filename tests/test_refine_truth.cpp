@@ -140,8 +140,8 @@ struct Refined {
   RefineReport report;
   double before = 0.0, after = 0.0, ms = 0.0;
 };
-Refined refine_checked(const Mesh& mesh, const Energy& energy, const SurfacePath& fmm, const std::string& name,
-                       const Row& row) {
+Refined refine_checked(const Mesh& mesh, const Energy& energy, const SurfacePath& fmm,
+                       const std::string& name, const Row& row) {
   Refined r;
   r.before = energy.evaluate(fmm);
   const auto t0 = std::chrono::steady_clock::now();
@@ -161,8 +161,8 @@ Refined refine_checked(const Mesh& mesh, const Energy& energy, const SurfacePath
 // and added to the totals (`all`, and per mesh) with the error target `target`; prints each
 // pair and, under `label`, the totals.
 template <class SpecFor, class Check>
-void refine_rows(const std::vector<Row>& rows, SpecFor spec_for, Check check, double target, const char* label,
-                 Measured& all) {
+void refine_rows(const std::vector<Row>& rows, SpecFor spec_for, Check check, double target,
+                 const char* label, Measured& all) {
   std::map<std::string, Measured> per_mesh;
   for (const std::string& name : kSmallMeshes) {
     const Mesh mesh = load_mesh(test::shared_data("meshes/" + name));

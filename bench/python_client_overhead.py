@@ -10,7 +10,6 @@ solving (process start, mesh hashing/lookup, submit, event streaming, result tra
     python3 bench/python_client_overhead.py [--mesh tests/data/kitten.off -s 0 -t 320] [--repeat 5]
 (needs the package importable: PYTHONPATH=clients/python, or installed with pip)
 """
-import argparse
 import json
 import os
 import statistics
@@ -20,28 +19,16 @@ import tempfile
 import time
 
 import depath
-
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from depathd_bench import binaries_parser, start_depathd
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--mesh", default=os.path.join(ROOT, "tests", "data", "kitten.off"))
-    ap.add_argument("-s", "--source", type=int, default=0)
-    ap.add_argument("-t", "--target", type=int, default=320)
-    ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--depathd", default=os.path.join(ROOT, "build", "server", "depathd"))
-    ap.add_argument("--depath", default=os.path.join(ROOT, "build", "client", "depath"))
-    args = ap.parse_args()
+    args = binaries_parser(__doc__, source=0, target=320, repeat=5).parse_args()
 
     work = tempfile.mkdtemp(prefix="depath-overhead-")
-    port_file = os.path.join(work, "port")
-    server = subprocess.Popen([args.depathd, "--listen", "127.0.0.1:0", "--port-file", port_file, "--threads", "2"],
-                              stderr=open(os.path.join(work, "depathd.log"), "wb"))
+    server, port = start_depathd(args.depathd, os.path.join(work, "port"), os.path.join(work, "depathd.log"))
     try:
-        while not (os.path.exists(port_file) and open(port_file).read().strip()):
-            time.sleep(0.02)
-        address = "127.0.0.1:" + open(port_file).read().strip()
+        address = "127.0.0.1:" + port
         rows = {"cli": [], "python": []}
         with depath.Client(address) as client:
             for i in range(args.repeat):

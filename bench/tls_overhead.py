@@ -14,7 +14,6 @@ Makes a CA and certificates with openssl, starts three depathd (plaintext, TLS, 
     python3 bench/tls_overhead.py [--mesh tests/data/kitten.off -s 366 -t 230 --generations 10] [--repeat 7]
 (Debian's python3 with python3-grpcio; the mesh is uploaded by the first run, later runs find it)
 """
-import argparse
 import os
 import shutil
 import statistics
@@ -24,7 +23,8 @@ import time
 
 import grpc
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from depathd_bench import binaries_parser, start_depathd
+
 HEALTH = "/grpc.health.v1.Health/Check"
 LIST_JOBS = "/depath.v1.JobService/ListJobs"
 
@@ -46,14 +46,8 @@ def make_certs(work):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--mesh", default=os.path.join(ROOT, "tests", "data", "kitten.off"))
-    ap.add_argument("-s", "--source", type=int, default=366)
-    ap.add_argument("-t", "--target", type=int, default=230)
+    ap = binaries_parser(__doc__, source=366, target=230, repeat=7)
     ap.add_argument("--generations", type=int, default=10)
-    ap.add_argument("--repeat", type=int, default=7)
-    ap.add_argument("--depathd", default=os.path.join(ROOT, "build", "server", "depathd"))
-    ap.add_argument("--depath", default=os.path.join(ROOT, "build", "client", "depath"))
     args = ap.parse_args()
 
     work = tempfile.mkdtemp(prefix="depath-tls-bench-")
@@ -68,16 +62,9 @@ def main():
     servers, address = {}, {}
     try:
         for i, (mode, (server_flags, _)) in enumerate(modes.items()):
-            port_file = p("port%d" % i)
-            servers[mode] = subprocess.Popen([args.depathd, "--store", "memory", "--listen", "127.0.0.1:0",
-                                              "--port-file", port_file, "--threads", "2", "--log-level", "warn",
-                                              *server_flags], stderr=open(p("log%d" % i), "wb"))
-            deadline = time.monotonic() + 30
-            while not os.path.exists(port_file):
-                if servers[mode].poll() is not None or time.monotonic() > deadline:
-                    raise SystemExit("depathd (%s) did not start: %s" % (mode, open(p("log%d" % i)).read()))
-                time.sleep(0.05)
-            address[mode] = "localhost:" + open(port_file).read().strip()
+            servers[mode], port = start_depathd(args.depathd, p("port%d" % i), p("log%d" % i),
+                                                ["--store", "memory", "--log-level", "warn", *server_flags])
+            address[mode] = "localhost:" + port
 
         def cli(mode, *command):
             start = time.perf_counter()

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
-// Meshes with known geodesics for the tests: icospheres and open cylinders.
+// Meshes for the tests: icospheres and open cylinders (known geodesics), and the generators'
+// grids with alternating diagonals.
 #pragma once
 
+#include "depath/generators/surfaces.hpp"
 #include "depath/mesh/mesh.hpp"
 
 #include <array>
@@ -71,6 +73,18 @@ inline Mesh make_cylinder(double radius, double height, int rings, int sectors) 
     }
   }
   return Mesh(std::move(p), std::move(f));
+}
+
+/// The generators' n x n grid over [-3, 3]^2 (vertex (i, j) = j * n + i) with alternating
+/// diagonals, so that no direction is favoured: flat (geodesics are straight lines) or the
+/// MATLAB peaks terrain (a curved surface where the fmm back-trace is measurably off the
+/// geodesic).
+inline Mesh alternating_grid(int n, GridHeight height = GridHeight::flat) {
+  GridOptions o;
+  o.n = n;
+  o.height = height;
+  o.diagonals = GridDiagonals::alternating;
+  return make_grid(o);
 }
 
 /// Vertex of a mesh closest to a point.

@@ -5,6 +5,7 @@
 
 #include "depath/energy/energy.hpp"
 #include "depath/solve/solve.hpp"
+#include "job_builders.hpp"
 #include "random_cases.hpp"
 
 #include <string>
@@ -16,23 +17,6 @@ namespace depath::test {
 /// the work; the refinement takes most of a solve's time.
 inline constexpr int kAnglePopulation = 8;
 inline constexpr int kAngleGenerations = 20;
-
-/// `de --refine` from `source` to `target`: SHADE seeded with the problem, seed 1 (the
-/// energy left at its default; also bench/paper_figures' job).
-inline JobSpec de_refine_job(int source, int target, int population, int generations, int threads) {
-  JobSpec job;
-  job.source = source;
-  job.target = target;
-  job.method = Method::de;
-  job.refine = true;
-  job.de.population = population;
-  job.de.generations = generations;
-  job.de.strategy = "shade";
-  job.de.seed_with_problem = true;
-  job.seed = 1;
-  job.threads = threads;
-  return job;
-}
 
 /// de_refine_job on `c` with its energy at smoothness `lambda`.
 inline JobSpec angle_job(const AngleCase& c, double lambda, int population = kAnglePopulation,

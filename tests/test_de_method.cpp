@@ -7,6 +7,7 @@
 #include "depath/solve/solve.hpp"
 #include "depath/generators/surfaces.hpp"
 
+#include "analytic_meshes.hpp"
 #include "job_builders.hpp"
 #include "test_support.hpp"
 #include "truth_tables.hpp"
@@ -93,30 +94,33 @@ TEST(DeMethod, ConvergesOnASmallFlatGrid) {
   expect_valid_path(mesh, r.path, 0, n * n - 1);
 }
 
-// n x n MATLAB peaks terrain with alternating diagonals: a curved surface where the fmm
-// back-trace is measurably off the geodesic.
-Mesh peaks_grid(int n) {
-  GridOptions options;
-  options.n = n;
-  options.height = GridHeight::peaks;
-  options.diagonals = GridDiagonals::alternating;
-  return make_grid(options);
-}
+// DE seeded with the problem (16 agents x 30 generations) corner to corner across the
+// 21 x 21 peaks terrain with alternating diagonals.
+struct SeededOnPeaks {
+  static constexpr int n = 21;
+  const int target = n * n - 1;
+  const Mesh mesh = test::alternating_grid(n, GridHeight::peaks);
+  JobSpec job = seeded(de_job(0, target, 16, 30));
+
+  static JobSpec seeded(JobSpec job) {
+    job.de.seed_with_problem = true;
+    return job;
+  }
+};
 
 // On a curved surface (peaks) the fmm back-trace is off the geodesic by a fraction of a
 // percent; seeded DE starts from it, so it can only end at or below it, and does better.
 TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
-  const int n = 21;
-  const Mesh mesh = peaks_grid(n);
-  JobSpec job = de_job(0, n * n - 1, 16, 30);
-  job.de.seed_with_problem = true;
+  const SeededOnPeaks peaks;
+  const Mesh& mesh = peaks.mesh;
+  JobSpec job = peaks.job;
   for (const std::string strategy : {"rand1bin", "shade"}) {
     job.de.strategy = strategy;
     const SolveResult r = solve(mesh, job);
     EXPECT_LE(r.energy, r.fmm_energy) << strategy;
     EXPECT_LT(r.energy, r.fmm_energy * 0.999) << strategy << ": DE should improve on the fmm back-trace";
     EXPECT_DOUBLE_EQ(r.energy, r.length) << "uniform density: the energy is the length";
-    expect_valid_path(mesh, r.path, 0, n * n - 1);
+    expect_valid_path(mesh, r.path, 0, peaks.target);
   }
 }
 
@@ -124,10 +128,9 @@ TEST(DeMethod, SeededWithTheProblemNeverWorseThanFmmAndImprovesOnIt) {
 // path, the final population's): never above refining DE's path or the fmm path alone,
 // and still the same whatever the thread count.
 TEST(DeMethod, RefinedResultIsTheBestOfTheRefinedStarts) {
-  const int n = 21;
-  const Mesh mesh = peaks_grid(n);
-  JobSpec job = de_job(0, n * n - 1, 16, 30);
-  job.de.seed_with_problem = true;
+  const SeededOnPeaks peaks;
+  const Mesh& mesh = peaks.mesh;
+  JobSpec job = peaks.job;
   job.de.strategy = "shade";
   const SolveResult plain = solve(mesh, job);
   JobSpec fmm_job = job;
@@ -136,7 +139,7 @@ TEST(DeMethod, RefinedResultIsTheBestOfTheRefinedStarts) {
   job.refine = true;
   const SolveResult refined = solve(mesh, job);
   EXPECT_TRUE(refined.refined);
-  expect_valid_path(mesh, refined.path, 0, n * n - 1);
+  expect_valid_path(mesh, refined.path, 0, peaks.target);
   const auto energy = make_energy(mesh, job.energy);
   RefineOptions local;
   local.max_hops = 0;

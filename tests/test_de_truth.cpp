@@ -11,6 +11,7 @@
 #include "depath/io/mesh_reader.hpp"
 #include "depath/io/vertex_data.hpp"
 #include "depath/solve/solve.hpp"
+#include "job_builders.hpp"
 #include "path_checks.hpp"
 #include "test_support.hpp"
 #include "time_scale.hpp"
@@ -30,19 +31,8 @@ namespace {
 // every 6th pair is solved (every mesh still appears), all of them in the Release suite.
 int pair_stride() { return test::sanitized_build() ? 6 : 1; }
 
-JobSpec de_refine_job(int s, int t) {
-  JobSpec job;
-  job.source = s;
-  job.target = t;
-  job.method = Method::de;
-  job.refine = true;
-  job.de.population = 16;
-  job.de.generations = 30;
-  job.de.strategy = "shade";
-  job.de.seed_with_problem = true;
-  job.threads = 2;
-  return job;
-}
+// The truth tests' job: SHADE with refinement, population 16, 30 generations, 2 threads.
+JobSpec de_refine_job(int s, int t) { return test::de_refine_job(s, t, 16, 30, 2); }
 
 TEST(DeTruth, UniformGeodesicWithinATenthOfAPercentOfExact) {
   DEPATH_REQUIRE_SHARED_DATA();

@@ -4,6 +4,8 @@
 #include "depath/io/mesh_reader.hpp"
 #include "depath/solve/solve.hpp"
 #include "depath/generators/surfaces.hpp"
+#include "analytic_meshes.hpp"
+#include "job_builders.hpp"
 #include "test_support.hpp"
 
 #include <gtest/gtest.h>
@@ -14,21 +16,9 @@
 namespace depath {
 namespace {
 
-Mesh peaks_grid() {
-  GridOptions o;
-  o.n = 31;
-  o.height = GridHeight::peaks;
-  o.diagonals = GridDiagonals::alternating;
-  return make_grid(o);
-}
-
 TEST(DescentMethod, ImprovesOnTheFmmPathAndReportsProgress) {
-  const Mesh mesh = peaks_grid();
-  JobSpec job;
-  job.source = 0;
-  job.target = mesh.num_vertices() - 1;
-  job.method = Method::descent;
-  job.threads = 1;
+  const Mesh mesh = test::alternating_grid(31, GridHeight::peaks);
+  JobSpec job = test::method_job(Method::descent, 0, mesh.num_vertices() - 1);
   job.path_every = 1;
   std::vector<Progress> reports;
   int with_path = 0;
@@ -59,12 +49,8 @@ TEST(DescentMethod, ImprovesOnTheFmmPathAndReportsProgress) {
 }
 
 TEST(DescentMethod, CancelledStopsAtOnceWithTheFmmQuality) {
-  const Mesh mesh = peaks_grid();
-  JobSpec job;
-  job.source = 0;
-  job.target = mesh.num_vertices() - 1;
-  job.method = Method::descent;
-  job.threads = 1;
+  const Mesh mesh = test::alternating_grid(31, GridHeight::peaks);
+  JobSpec job = test::method_job(Method::descent, 0, mesh.num_vertices() - 1);
   SolveHooks hooks;
   hooks.is_cancelled = [] { return true; };
   const SolveResult result = solve(mesh, job, hooks);
@@ -75,11 +61,7 @@ TEST(DescentMethod, CancelledStopsAtOnceWithTheFmmQuality) {
 TEST(DescentMethod, ReachesTheExactGeodesicOnKitten) {
   DEPATH_REQUIRE_SHARED_DATA();
   const Mesh mesh = load_mesh(test::shared_data("meshes/kitten.off"));
-  JobSpec job;
-  job.source = 0;
-  job.target = 755;
-  job.method = Method::descent;
-  job.threads = 1;
+  JobSpec job = test::method_job(Method::descent, 0, 755);
   const SolveResult result = solve(mesh, job);
   const double exact = 38.7146873422;  // geodesic_exact.csv: kitten.off,0,755
   EXPECT_GT(result.fmm_energy, exact * 1.005);  // the fmm path is 0.9% long
@@ -88,12 +70,8 @@ TEST(DescentMethod, ReachesTheExactGeodesicOnKitten) {
 }
 
 TEST(DescentMethod, RefineAfterDescentChangesNothingForTheWorse) {
-  const Mesh mesh = peaks_grid();
-  JobSpec job;
-  job.source = 40;
-  job.target = 900;
-  job.method = Method::descent;
-  job.threads = 1;
+  const Mesh mesh = test::alternating_grid(31, GridHeight::peaks);
+  JobSpec job = test::method_job(Method::descent, 40, 900);
   job.energy.kind = EnergyKind::constant_slope;
   job.energy.slope = 0.3;
   const SolveResult plain = solve(mesh, job);

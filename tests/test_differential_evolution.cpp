@@ -82,6 +82,24 @@ TEST(DeRandom, StreamsDependOnlyOnKeysAndStayInRange) {
   EXPECT_NEAR(sum / 20000, 0.5, 0.01);
 }
 
+// N agents of n coordinates, agent i's coordinate j = value(i, j), every energy 1: a
+// population for a strategy to draw trials from.
+struct Population {
+  template <class Value>
+  Population(int agents, int dimension, Value value)
+      : N(agents), n(dimension), rows(agents, std::vector<double>(dimension)), energies(agents, 1.0) {
+    for (int i = 0; i < N; ++i)
+      for (int j = 0; j < n; ++j) rows[i][j] = value(i, j);
+    for (auto& r : rows) ptrs.push_back(r.data());
+  }
+  de::PopulationView view() const { return {N, n, ptrs.data(), energies.data()}; }
+
+  int N, n;
+  std::vector<std::vector<double>> rows;
+  std::vector<const double*> ptrs;
+  std::vector<double> energies;
+};
+
 // The paper's operator: with CR = 0 the trial is the parent with exactly one coordinate
 // replaced by x_r1 + F (x_r2 - x_r3) for distinct r1, r2, r3 != i.
 TEST(DeStrategy, Rand1BinIsThePapersOperator) {
@@ -89,13 +107,9 @@ TEST(DeStrategy, Rand1BinIsThePapersOperator) {
   // Square roots of distinct primes are linearly independent over the rationals, so no
   // mutant coordinate can equal the parent's and each (r1, r2, r3) gives its own value.
   const double primes[N] = {2, 3, 5, 7, 11, 13};
-  std::vector<std::vector<double>> rows(N, std::vector<double>(n));
-  for (int i = 0; i < N; ++i)
-    for (int j = 0; j < n; ++j) rows[i][j] = std::sqrt(primes[i]) + 100.0 * j;
-  std::vector<const double*> ptrs;
-  for (auto& r : rows) ptrs.push_back(r.data());
-  std::vector<double> energies(N, 1.0);
-  const de::PopulationView view{N, n, ptrs.data(), energies.data()};
+  const Population population(N, n, [&](int i, int j) { return std::sqrt(primes[i]) + 100.0 * j; });
+  const auto& rows = population.rows;
+  const de::PopulationView view = population.view();
   DeSettings s = settings(N, 1);
   s.F = 0.5;
   s.CR = 0.0;
@@ -130,13 +144,9 @@ TEST(DeStrategy, Rand1BinIsThePapersOperator) {
 
 TEST(DeStrategy, CrossoverRateControlsTheShareOfMutantCoordinates) {
   const int N = 8, n = 2000;
-  std::vector<std::vector<double>> rows(N, std::vector<double>(n));
-  for (int i = 0; i < N; ++i)
-    for (int j = 0; j < n; ++j) rows[i][j] = i * 1.0 + j * 1e-3;
-  std::vector<const double*> ptrs;
-  for (auto& r : rows) ptrs.push_back(r.data());
-  std::vector<double> energies(N, 1.0);
-  const de::PopulationView view{N, n, ptrs.data(), energies.data()};
+  const Population population(N, n, [](int i, int j) { return i * 1.0 + j * 1e-3; });
+  const auto& rows = population.rows;
+  const de::PopulationView view = population.view();
   DeSettings s = settings(N, 1);
   s.CR = 0.3;
   auto strategy = de::make_strategy(s, N, n);

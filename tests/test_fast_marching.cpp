@@ -31,10 +31,7 @@ Decoded decode_uniform(const Mesh& mesh, int s, int t) {
 }
 
 TEST(FastMarching, PlaneStraightLinesAndDistances) {
-  GridOptions grid;
-  grid.n = 41;
-  grid.diagonals = GridDiagonals::alternating;
-  const Mesh mesh = make_grid(grid);
+  const Mesh mesh = test::alternating_grid(41);
   const int centre = 20 * 41 + 20;
   // Targets in several directions, including ones no mesh edge follows.
   for (const auto& [i, j] : std::vector<std::pair<int, int>>{{40, 20}, {40, 40}, {35, 0}, {0, 33}, {27, 40}, {3, 9}}) {
@@ -132,10 +129,7 @@ TEST(FastMarching, EveryVertexHasAnEarlierNeighbourNotAbove) {
 TEST(FastMarching, WeightedGeodesicEnergyMatchesFieldAlongAStraightChannel) {
   // On a flat grid with density varying only across the path direction (rho = 1 + y^2),
   // the best path between two points on y = 0 stays on y = 0 with cost = length.
-  GridOptions grid;
-  grid.n = 41;
-  grid.diagonals = GridDiagonals::alternating;
-  const Mesh mesh = make_grid(grid);
+  const Mesh mesh = test::alternating_grid(41);
   std::vector<double> rho(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) rho[v] = 1.0 + mesh.position(v).y() * mesh.position(v).y();
   const FastMarchingStencils stencils(mesh);

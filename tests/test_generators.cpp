@@ -6,6 +6,7 @@
 #include "depath/io/mesh_writer.hpp"
 #include "depath/generators/surfaces.hpp"
 #include "depath/mesh/tangent_fields.hpp"
+#include "analytic_meshes.hpp"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -203,11 +204,7 @@ class MeshWriter : public ::testing::Test {
 };
 
 TEST_F(MeshWriter, RoundTripsThroughTheReaders) {
-  GridOptions o;
-  o.n = 9;
-  o.height = GridHeight::peaks;
-  o.diagonals = GridDiagonals::alternating;
-  const Mesh grid = make_grid(o);
+  const Mesh grid = test::alternating_grid(9, GridHeight::peaks);
   ConeOptions c;
   c.rings = 4;
   c.sectors = 10;
@@ -300,10 +297,7 @@ TEST_F(MeshWriter, RejectsUnknownExtensionsAndUnwritablePaths) {
 // ---------------------------------------------------------------- tangent fields
 
 TEST(TangentFields, GradientOfALinearFunctionIsExact) {
-  GridOptions o;
-  o.n = 6;
-  o.diagonals = GridDiagonals::alternating;
-  const Mesh mesh = make_grid(o);
+  const Mesh mesh = test::alternating_grid(6);
   std::vector<double> f(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v) f[v] = 2.0 * mesh.position(v).x() - 3.0 * mesh.position(v).y() + 7.0;
   for (const Vec3& g : face_gradients(mesh, f)) EXPECT_NEAR((g - Vec3(2, -3, 0)).norm(), 0.0, 1e-13);

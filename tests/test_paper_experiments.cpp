@@ -18,6 +18,7 @@
 #include "depath/solve/solve.hpp"
 #include "depath/generators/surfaces.hpp"
 #include "depath/mesh/tangent_fields.hpp"
+#include "job_builders.hpp"
 #include "time_scale.hpp"
 
 #include <gtest/gtest.h>
@@ -55,19 +56,9 @@ void expect_valid_path(const Mesh& mesh, const SurfacePath& path, int source, in
   }
 }
 
+// The experiments' job: SHADE with refinement, population 20, seed 1, 2 threads.
 JobSpec de_job(int source, int target, int generations) {
-  JobSpec job;
-  job.source = source;
-  job.target = target;
-  job.method = Method::de;
-  job.refine = true;
-  job.de.population = 20;
-  job.de.generations = generations;
-  job.de.strategy = "shade";
-  job.de.seed_with_problem = true;
-  job.seed = 1;
-  job.threads = 2;
-  return job;
+  return test::de_refine_job(source, target, 20, generations, 2);
 }
 
 JobSpec with_method(JobSpec job, Method method) {

@@ -99,12 +99,18 @@ Mesh flat_grid(int nx, int ny) {
   return mesh_from_quads(quads);
 }
 
-TEST(Refine, StraightensAnLShapedPathOnAFlatGrid) {
-  const Mesh mesh = flat_grid(9, 7);
+// On flat_grid(9, 7): the vertex path along the x axis from (0, 0) to (8, 0), then up to
+// (8, 6): length 14, where the straight segment is 10.
+SurfacePath l_shaped_path(const Mesh& mesh) {
   std::vector<int> route;
   for (int x = 0; x <= 8; ++x) route.push_back(vertex_at(mesh, Vec3(x, 0, 0)));
   for (int y = 1; y <= 6; ++y) route.push_back(vertex_at(mesh, Vec3(8, y, 0)));
-  const SurfacePath input = vertex_path(mesh, route);
+  return vertex_path(mesh, route);
+}
+
+TEST(Refine, StraightensAnLShapedPathOnAFlatGrid) {
+  const Mesh mesh = flat_grid(9, 7);
+  const SurfacePath input = l_shaped_path(mesh);
   const auto energy = make_energy(mesh, EnergySpec{});
   ASSERT_DOUBLE_EQ(energy->evaluate(input), 14.0);
   RefineReport report;
@@ -441,10 +447,7 @@ TEST(Refine, CancelledBeforeTheFirstSweepReturnsAnEquallyGoodPath) {
 
 TEST(Refine, ReportsEachSweepAndHonoursMaxSweeps) {
   const Mesh mesh = flat_grid(9, 7);
-  std::vector<int> route;
-  for (int x = 0; x <= 8; ++x) route.push_back(vertex_at(mesh, Vec3(x, 0, 0)));
-  for (int y = 1; y <= 6; ++y) route.push_back(vertex_at(mesh, Vec3(8, y, 0)));
-  const SurfacePath input = vertex_path(mesh, route);
+  const SurfacePath input = l_shaped_path(mesh);
   const auto energy = make_energy(mesh, EnergySpec{});
   RefineOptions options;
   options.max_sweeps = 2;

@@ -133,52 +133,84 @@ void print_summary(const char* target, const std::map<std::string, Measured>& pe
               all.total_ms / all.pairs, all.max_ms);
 }
 
-TEST(RefineTruth, FmmPlusRefineAgainstExactGeodesics) {
-  DEPATH_REQUIRE_SHARED_DATA();
-  const auto rows = read_rows(test::shared_data("truth/geodesic_exact.csv"), false, kSmallMeshes);
-  ASSERT_EQ(rows.size(), 48u);
-  Measured all;
+// One refinement of the fmm path `fmm` for `row`, timed, with the guarantees every
+// refinement keeps checked: never worse, same end points, a valid surface path.
+struct Refined {
+  SurfacePath path;
+  RefineReport report;
+  double before = 0.0, after = 0.0, ms = 0.0;
+};
+Refined refine_checked(const Mesh& mesh, const Energy& energy, const SurfacePath& fmm,
+                       const std::string& name, const Row& row) {
+  Refined r;
+  r.before = energy.evaluate(fmm);
+  const auto t0 = std::chrono::steady_clock::now();
+  r.path = refine_path(energy, fmm, {}, {}, &r.report);
+  r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  r.after = energy.evaluate(r.path);
+  EXPECT_LE(r.after, r.before) << name << " " << row.source << "->" << row.target;
+  EXPECT_TRUE(segments_valid(mesh, r.path)) << name << " " << row.source << "->" << row.target;
+  EXPECT_EQ(r.path.points.front().v0, row.source);
+  EXPECT_EQ(r.path.points.back().v0, row.target);
+  return r;
+}
+
+// fmm + refinement for every row of `rows`, mesh by mesh (kSmallMeshes): the fmm path decoded
+// with the density of the mesh's energy `spec_for(name)` (1 everywhere where it has none),
+// refined and checked (refine_checked), then checked further by `check(mesh, row, refined)`
+// and added to the totals (`all`, and per mesh) with the error target `target`; prints each
+// pair and, under `label`, the totals.
+template <class SpecFor, class Check>
+void refine_rows(const std::vector<Row>& rows, SpecFor spec_for, Check check, double target,
+                 const char* label, Measured& all) {
   std::map<std::string, Measured> per_mesh;
   for (const std::string& name : kSmallMeshes) {
     const Mesh mesh = load_mesh(test::shared_data("meshes/" + name));
     const FastMarchingStencils stencils(mesh);
     PathDecoder decoder(stencils);
-    const auto energy = make_energy(mesh, EnergySpec{});
-    const std::vector<double> ones(mesh.num_vertices(), 1.0);
+    const EnergySpec spec = spec_for(name);
+    const auto energy = make_energy(mesh, spec);
+    const std::vector<double> density =
+        spec.density.empty() ? std::vector<double>(mesh.num_vertices(), 1.0) : spec.density;
     for (const Row& row : rows) {
       if (row.mesh != name) continue;
       SurfacePath fmm;
-      ASSERT_TRUE(decoder.decode(ones, row.source, row.target, fmm)) << name << " " << row.source;
-      const double before = energy->evaluate(fmm);
-      const auto t0 = std::chrono::steady_clock::now();
-      RefineReport report;
-      const SurfacePath refined = refine_path(*energy, fmm, {}, {}, &report);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      const double after = energy->evaluate(refined);
-      // Guarantees: never worse, same end points, a valid surface path; and being a
-      // real path on the mesh, never shorter than the exact geodesic.
-      EXPECT_LE(after, before);
-      EXPECT_TRUE(segments_valid(mesh, refined)) << name << " " << row.source << "->" << row.target;
-      EXPECT_EQ(refined.points.front().v0, row.source);
-      EXPECT_EQ(refined.points.back().v0, row.target);
-      // The exact values carry ~1e-7 relative error of their own.
-      EXPECT_GE(after, row.value * (1.0 - 1e-6)) << name << " " << row.source << "->" << row.target;
-      // A local geodesic: wherever it passes through a vertex, the surface angle on
-      // either side is at least pi (else re-routing around the vertex shortens it).
-      for (int i = 1; i + 1 < static_cast<int>(refined.points.size()); ++i) {
-        if (!refined.points[i].is_vertex()) continue;
-        const double side = smaller_side_angle(mesh, refined, i);
-        // (refine_path treats a vertex within 1e-6 rad of straight as straight.)
-        if (side >= 0.0) {
-          EXPECT_GE(side, M_PI - 1e-5) << name << " " << row.source << "->" << row.target;
-        }
-      }
-      const double err_before = before / row.value - 1.0, err_after = after / row.value - 1.0;
-      for (Measured* m : {&all, &per_mesh[name]}) m->add(err_before, err_after, ms, 1e-3);
-      print_pair(name, row, err_before, err_after, fmm, refined, report, ms);
+      ASSERT_TRUE(decoder.decode(density, row.source, row.target, fmm))
+          << name << " " << row.source << "->" << row.target;
+      const Refined r = refine_checked(mesh, *energy, fmm, name, row);
+      check(mesh, row, r);
+      const double err_before = r.before / row.value - 1.0, err_after = r.after / row.value - 1.0;
+      for (Measured* m : {&all, &per_mesh[name]}) m->add(err_before, err_after, r.ms, target);
+      print_pair(name, row, err_before, err_after, fmm, r.path, r.report, r.ms);
     }
   }
-  print_summary("within 0.1% of exact", per_mesh, all);
+  print_summary(label, per_mesh, all);
+}
+
+TEST(RefineTruth, FmmPlusRefineAgainstExactGeodesics) {
+  DEPATH_REQUIRE_SHARED_DATA();
+  const auto rows = read_rows(test::shared_data("truth/geodesic_exact.csv"), false, kSmallMeshes);
+  ASSERT_EQ(rows.size(), 48u);
+  Measured all;
+  const auto uniform = [](const std::string&) { return EnergySpec{}; };
+  const auto check = [](const Mesh& mesh, const Row& row, const Refined& r) {
+    const std::string& name = row.mesh;
+    const SurfacePath& refined = r.path;
+    // Being a real path on the mesh, never shorter than the exact geodesic (the exact
+    // values carry ~1e-7 relative error of their own).
+    EXPECT_GE(r.after, row.value * (1.0 - 1e-6)) << name << " " << row.source << "->" << row.target;
+    // A local geodesic: wherever it passes through a vertex, the surface angle on
+    // either side is at least pi (else re-routing around the vertex shortens it).
+    for (int i = 1; i + 1 < static_cast<int>(refined.points.size()); ++i) {
+      if (!refined.points[i].is_vertex()) continue;
+      const double side = smaller_side_angle(mesh, refined, i);
+      // (refine_path treats a vertex within 1e-6 rad of straight as straight.)
+      if (side >= 0.0) {
+        EXPECT_GE(side, M_PI - 1e-5) << name << " " << row.source << "->" << row.target;
+      }
+    }
+  };
+  ASSERT_NO_FATAL_FAILURE(refine_rows(rows, uniform, check, 1e-3, "within 0.1% of exact", all));
   // Measured: 47 of 48 since the vertex hops (44 without them). The miss, beethoven
   // 369 -> 595 (+0.20%), is a local geodesic in another homotopy class than the exact
   // one, more than a hop away: DE's job (test_de_truth).
@@ -191,34 +223,13 @@ TEST(RefineTruth, FmmPlusRefineWithBumpDensities) {
   const auto rows = read_rows(test::shared_data("truth/weighted_steiner.csv"), true, kSmallMeshes);
   ASSERT_EQ(rows.size(), 48u);
   Measured all;
-  std::map<std::string, Measured> per_mesh;
-  for (const std::string& name : kSmallMeshes) {
-    const Mesh mesh = load_mesh(test::shared_data("meshes/" + name));
-    const FastMarchingStencils stencils(mesh);
-    PathDecoder decoder(stencils);
+  const auto bumps = [](const std::string& name) {
     EnergySpec spec;
     spec.density = read_scalar_file(test::shared_data("fields/" + name.substr(0, name.find('.')) + ".bumps.density"));
-    const auto energy = make_energy(mesh, spec);
-    for (const Row& row : rows) {
-      if (row.mesh != name) continue;
-      SurfacePath fmm;
-      ASSERT_TRUE(decoder.decode(spec.density, row.source, row.target, fmm));
-      const double before = energy->evaluate(fmm);
-      const auto t0 = std::chrono::steady_clock::now();
-      RefineReport report;
-      const SurfacePath refined = refine_path(*energy, fmm, {}, {}, &report);
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-      const double after = energy->evaluate(refined);
-      EXPECT_LE(after, before);
-      EXPECT_TRUE(segments_valid(mesh, refined));
-      EXPECT_EQ(refined.points.front().v0, row.source);
-      EXPECT_EQ(refined.points.back().v0, row.target);
-      const double err_before = before / row.value - 1.0, err_after = after / row.value - 1.0;
-      for (Measured* m : {&all, &per_mesh[name]}) m->add(err_before, err_after, ms, 1e-2);
-      print_pair(name, row, err_before, err_after, fmm, refined, report, ms);
-    }
-  }
-  print_summary("within 1% of k16", per_mesh, all);
+    return spec;
+  };
+  const auto no_more_checks = [](const Mesh&, const Row&, const Refined&) {};
+  ASSERT_NO_FATAL_FAILURE(refine_rows(rows, bumps, no_more_checks, 1e-2, "within 1% of k16", all));
   // Measured: all 48 (worst +0.17% above cost_k16, most below it).
   EXPECT_EQ(all.within, all.pairs);
 }

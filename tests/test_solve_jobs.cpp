@@ -5,6 +5,7 @@
 #include "depath/io/result_writer.hpp"
 #include "depath/io/vertex_data.hpp"
 #include "depath/solve/solve.hpp"
+#include "job_builders.hpp"
 #include "path_checks.hpp"
 #include "test_support.hpp"
 
@@ -25,14 +26,7 @@ const Mesh& cone() {
   return mesh;
 }
 
-JobSpec fmm_job(int s = 0, int t = 348) {
-  JobSpec job;
-  job.source = s;
-  job.target = t;
-  job.method = Method::fmm;
-  job.threads = 1;
-  return job;
-}
+JobSpec fmm_job(int s = 0, int t = 348) { return test::method_job(Method::fmm, s, t); }
 
 void expect_error(const Mesh& mesh, const JobSpec& job, ErrorCode code, const std::string& words) {
   try {

@@ -232,12 +232,7 @@ TEST(ServiceStartup, APortInUseIsRefused) {
   TestServer first;
   auto options = quiet_options();
   options.listen = first.address();
-  try {
-    service::Server second(options);
-    ADD_FAILURE() << "a second server started on " << first.address();
-  } catch (const Error& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot listen"), std::string::npos) << e.what();
-  }
+  expect_server_refused(options, "cannot listen", "the address of another server, " + first.address());
 }
 
 // Calls that reload a mesh from the store (stored before a restart, or evicted) parse it off
@@ -372,11 +367,8 @@ TEST(ServiceJobs, SubmitErrorsUseTheRightCodes) {
   EXPECT_EQ(ts.cancel("job-nope").error_code(), StatusCode::NOT_FOUND);
   std::vector<v1::JobEvent> events;
   EXPECT_EQ(ts.watch("job-nope", 0, &events).error_code(), StatusCode::NOT_FOUND);
-  v1::GetResultRequest rr;
-  rr.set_job_id("job-nope");
   v1::JobResult result;
-  auto ctx = ts.context();
-  EXPECT_EQ(ts.jobs().GetResult(ctx.get(), rr, &result).error_code(), StatusCode::NOT_FOUND);
+  EXPECT_EQ(ts.get_result("job-nope", &result).error_code(), StatusCode::NOT_FOUND);
 }
 
 TEST(ServiceJobs, IdempotentSubmitAndResultOfUnfinishedJob) {
@@ -392,12 +384,9 @@ TEST(ServiceJobs, IdempotentSubmitAndResultOfUnfinishedJob) {
   EXPECT_TRUE(second.existing());
   EXPECT_EQ(ts.submit(long_job(grid, 0, 398), &third, "req-1").error_code(), StatusCode::ALREADY_EXISTS);
 
-  v1::GetResultRequest rr;
-  rr.set_job_id(first.job_id());
   v1::JobResult result;
   {
-    auto ctx = ts.context();
-    const auto s = ts.jobs().GetResult(ctx.get(), rr, &result);
+    const auto s = ts.get_result(first.job_id(), &result);
     EXPECT_EQ(s.error_code(), StatusCode::FAILED_PRECONDITION) << s.error_message();
   }
   ASSERT_TRUE(ts.cancel(first.job_id()).ok());
@@ -470,11 +459,8 @@ void expect_same_as_local(TestServer& ts, const std::string& obj, const v1::JobS
   EXPECT_EQ(result->generations(), local.generations);
 
   // GetResult gives the same, and it converts back to what `depath solve` writes.
-  v1::GetResultRequest rr;
-  rr.set_job_id(job);
   v1::JobResult fetched;
-  auto ctx = ts.context();
-  ASSERT_TRUE(ts.jobs().GetResult(ctx.get(), rr, &fetched).ok());
+  ASSERT_TRUE(ts.get_result(job, &fetched).ok());
   EXPECT_EQ(fetched.SerializeAsString(), result->SerializeAsString());
   const auto with_mesh = wire::result_message_to_json(fetched, &mesh);
   const auto without_mesh = wire::result_message_to_json(fetched, nullptr);

@@ -7,6 +7,7 @@
 
 #include "depath/v1/job.grpc.pb.h"
 #include "depath/v1/mesh.grpc.pb.h"
+#include "depath/util/error.hpp"
 #include "depath/wire/wire.hpp"
 #include "server.hpp"
 
@@ -56,6 +57,18 @@ inline service::ServerOptions quiet_options() {
   o.log_level = "warn";
   o.shutdown_timeout_seconds = 5;
   return o;
+}
+
+/// Starting a server with `options` is refused: the constructor throws an Error whose message
+/// contains `words`. `what` names the options for the failure message.
+inline void expect_server_refused(const service::ServerOptions& options, const std::string& words,
+                                  const std::string& what) {
+  try {
+    service::Server server(options);
+    ADD_FAILURE() << "started with " << what;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
 }
 
 /// A server in this process plus stubs on a real channel to it.
@@ -169,6 +182,13 @@ class TestServer {
     req.set_job_id(job_id);
     auto ctx = context();
     return jobs_->GetJob(ctx.get(), req, info);
+  }
+
+  grpc::Status get_result(const std::string& job_id, v1::JobResult* result) {
+    v1::GetResultRequest req;
+    req.set_job_id(job_id);
+    auto ctx = context();
+    return jobs_->GetResult(ctx.get(), req, result);
   }
 
   grpc::Status cancel(const std::string& job_id, v1::JobInfo* info = nullptr) {

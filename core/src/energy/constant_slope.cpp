@@ -14,24 +14,19 @@ namespace depath {
 ConstantSlopeEnergy::ConstantSlopeEnergy(const Mesh& mesh, int up_axis, double slope, double smoothness)
     : Energy(mesh, smoothness), up_axis_(up_axis), slope_(slope) {
   const std::vector<Vec3> grads = height_gradients(mesh, up_axis);
-  faces_.resize(mesh.num_faces());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    const FaceFrame frame = face_frame(mesh, f);
-    FaceData& d = faces_[f];
-    d.e1 = frame.e1;
-    d.e2 = frame.e2;
+  faces_ = per_face_frames<FaceData>(mesh, [&](int f, const FaceFrame& frame, FaceData& d) {
     d.u1x = d.u1y = d.u2x = d.u2y = 0.0;
     d.has_target = false;
-    if (!frame.valid) continue;
+    if (!frame.valid) return;
     const double gx = grads[f].dot(frame.e1), gy = grads[f].dot(frame.e2);
     const double g = std::hypot(gx, gy);
-    if (!(g > 0.0)) continue;
+    if (!(g > 0.0)) return;
     d.has_target = true;
     const double hx = gx / g, hy = gy / g;  // unit gradient direction
     if (g <= slope) {
       d.u1x = d.u2x = hx;
       d.u1y = d.u2y = hy;
-      continue;
+      return;
     }
     // Rotate the gradient direction by +/- theta; (-hy, hx) is n x (unit gradient).
     const double c = slope / g;
@@ -40,7 +35,7 @@ ConstantSlopeEnergy::ConstantSlopeEnergy(const Mesh& mesh, int up_axis, double s
     d.u1y = c * hy + s * hx;
     d.u2x = c * hx + s * hy;
     d.u2y = c * hy - s * hx;
-  }
+  });
 }
 
 double ConstantSlopeEnergy::segment_energy(const SurfacePoint& a, const SurfacePoint& b, int face) const {

@@ -58,12 +58,7 @@ VectorFieldEnergy::VectorFieldEnergy(const Mesh& mesh, std::vector<Vec3> field, 
   double max_norm2 = 0.0;
   for (const Vec3& v : field_) max_norm2 = std::max(max_norm2, v.squaredNorm());
   zero_norm2_ = max_norm2 * 1e-24;
-  faces_.resize(mesh.num_faces());
-  for (int f = 0; f < mesh.num_faces(); ++f) {
-    const FaceFrame frame = face_frame(mesh, f);
-    FaceData& d = faces_[f];
-    d.e1 = frame.e1;
-    d.e2 = frame.e2;
+  faces_ = per_face_frames<FaceData>(mesh, [&](int f, const FaceFrame& frame, FaceData& d) {
     d.valid = frame.valid;
     const auto& t = mesh.face(f);
     for (int k = 0; k < 3; ++k) {
@@ -71,7 +66,7 @@ VectorFieldEnergy::VectorFieldEnergy(const Mesh& mesh, std::vector<Vec3> field, 
       d.corner_field[2 * k] = field_[t[k]].dot(frame.e1);
       d.corner_field[2 * k + 1] = field_[t[k]].dot(frame.e2);
     }
-  }
+  });
 }
 
 double VectorFieldEnergy::segment_energy(const SurfacePoint& a, const SurfacePoint& b, int face) const {

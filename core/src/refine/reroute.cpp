@@ -151,6 +151,22 @@ int collapse_vertex_runs(Evaluator& eval, SurfacePath& path, double& energy) {
   int collapsed = 0;
   std::vector<SurfacePoint> replacement;
   std::vector<int> faces;
+  // The run i..last through vertex v in `replacement` and `faces`: a -> v -> b on the faces of
+  // the run's outer segments (they contain v); where a or b is v itself the run is simply
+  // dropped.
+  const auto run_through = [&](int i, int last, int v) {
+    const SurfacePoint& a = path.points[i - 1];
+    const SurfacePoint& b = path.points[last + 1];
+    replacement.clear();
+    if (a.is_vertex() && a.v0 == v) {
+      faces = {path.segment_faces[last]};
+    } else if (b.is_vertex() && b.v0 == v) {
+      faces = {path.segment_faces[i - 1]};
+    } else {
+      replacement.push_back(SurfacePoint::at_vertex(v));
+      faces = {path.segment_faces[i - 1], path.segment_faces[last]};
+    }
+  };
   for (int i = 1; i + 1 < static_cast<int>(path.points.size()); ++i) {
     if (path.points[i].is_vertex()) continue;
     int best_v = -1, best_last = -1;
@@ -161,20 +177,7 @@ int collapse_vertex_runs(Evaluator& eval, SurfacePath& path, double& energy) {
       for (int last = i; last + 1 < static_cast<int>(path.points.size()); ++last) {
         const SurfacePoint& p = path.points[last];
         if (p.is_vertex() || (p.v0 != v && p.v1 != v)) break;
-        const SurfacePoint& a = path.points[i - 1];
-        const SurfacePoint& b = path.points[last + 1];
-        // The faces of the run's outer segments contain v: a -> v -> b stays on them.
-        // Where a or b is v itself the run is simply dropped.
-        replacement.clear();
-        const bool a_is_v = a.is_vertex() && a.v0 == v, b_is_v = b.is_vertex() && b.v0 == v;
-        if (a_is_v) {
-          faces = {path.segment_faces[last]};
-        } else if (b_is_v) {
-          faces = {path.segment_faces[i - 1]};
-        } else {
-          replacement.push_back(SurfacePoint::at_vertex(v));
-          faces = {path.segment_faces[i - 1], path.segment_faces[last]};
-        }
+        run_through(i, last, v);
         const double delta = replacement_delta(eval, path, i, last, replacement, faces);
         if (delta <= best_delta && (best_v < 0 || delta < best_delta)) {
           best_delta = delta;
@@ -184,17 +187,7 @@ int collapse_vertex_runs(Evaluator& eval, SurfacePath& path, double& energy) {
       }
     }
     if (best_v < 0) continue;
-    const SurfacePoint a = path.points[i - 1], b = path.points[best_last + 1];
-    const bool a_is_v = a.is_vertex() && a.v0 == best_v, b_is_v = b.is_vertex() && b.v0 == best_v;
-    replacement.clear();
-    if (a_is_v) {
-      faces = {path.segment_faces[best_last]};
-    } else if (b_is_v) {
-      faces = {path.segment_faces[i - 1]};
-    } else {
-      replacement.push_back(SurfacePoint::at_vertex(best_v));
-      faces = {path.segment_faces[i - 1], path.segment_faces[best_last]};
-    }
+    run_through(i, best_last, best_v);
     apply_replacement(path, i, best_last, replacement, faces);
     energy += best_delta;
     ++collapsed;

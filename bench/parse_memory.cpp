@@ -7,10 +7,6 @@
 //                                      bytes, the peak RSS growth during the parse and their ratio
 // One parse per process (`measure`), so that memory freed by an earlier step cannot hide the
 // parse's own: the peak is VmHWM, reset through /proc/self/clear_refs just before the parse.
-#include "depath/io/mesh_reader.hpp"
-#include "depath/io/mesh_writer.hpp"
-#include "depath/wire/mesh.hpp"
-
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -20,6 +16,10 @@
 #include <sstream>
 #include <string>
 
+#include "depath/io/mesh_reader.hpp"
+#include "depath/io/mesh_writer.hpp"
+#include "depath/wire/mesh.hpp"
+
 namespace {
 
 uint64_t status_kb(const char* key) {
@@ -27,7 +27,8 @@ uint64_t status_kb(const char* key) {
   std::string line;
   const size_t n = std::strlen(key);
   while (std::getline(in, line)) {
-    if (line.compare(0, n, key) == 0 && line.size() > n && line[n] == ':') return std::stoull(line.substr(n + 1));
+    if (line.compare(0, n, key) == 0 && line.size() > n && line[n] == ':')
+      return std::stoull(line.substr(n + 1));
   }
   return 0;
 }

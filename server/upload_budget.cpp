@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: MIT
 #include "upload_budget.hpp"
 
-#include "service_error.hpp"
-
 #include <limits>
+
+#include "service_error.hpp"
 
 namespace depath::service {
 
@@ -62,15 +62,17 @@ grpc::Status UploadBudget::take(const Hold& hold, uint64_t file_bytes, uint64_t 
                               " bytes of memory to receive and parse (the file's bytes x " +
                               std::to_string(1 + parse_ratio(hold.format_)) + ")";
   if (need > budget_) {
-    return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-            figures + ", more than the server's whole budget of " + std::to_string(budget_) +
-                " bytes (--max-upload-memory-bytes): it cannot be accepted; send a smaller mesh or raise the flag"};
+    return {grpc::StatusCode::RESOURCE_EXHAUSTED, figures + ", more than the server's whole budget of " +
+                                                      std::to_string(budget_) +
+                                                      " bytes (--max-upload-memory-bytes): it cannot be "
+                                                      "accepted; send a smaller mesh or raise the flag"};
   }
   std::lock_guard lock(mutex_);
   if (held_ + extra > budget_) {
     return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-            figures + "; uploads and parses in flight hold " + std::to_string(held_ - (need - extra)) + " of the " +
-                std::to_string(budget_) + " bytes (--max-upload-memory-bytes); try again shortly"};
+            figures + "; uploads and parses in flight hold " + std::to_string(held_ - (need - extra)) +
+                " of the " + std::to_string(budget_) +
+                " bytes (--max-upload-memory-bytes); try again shortly"};
   }
   held_ += extra;
   return grpc::Status::OK;

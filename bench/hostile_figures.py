@@ -9,7 +9,8 @@ through /proc/PID/clear_refs before the case) and after, and latencies where the
   cycles      1500 submit+cancel cycles carrying a bunny-sized density (HTTP API, 4 clients)
   queued      30 queued jobs on distinct ~10 MB meshes (memory store, 21 MB cache budget; and SQLite)
   uploads     6 concurrent ~200 MB uploads (--max-upload-bytes allows 256 MB), with the latency of a
-              small upload, a submit on a cached mesh and health while they run
+              small upload, a submit on a cached mesh and health while they run; once without the
+              upload memory budget (--max-upload-memory-bytes 2^62) and once with its default
   restart     8 concurrent `depath submit` right after a restart on a persisted ~100 MB mesh, with
               health and `depath jobs` latency while the reloads run
 --scale shrinks (or grows) the generated meshes (1.0 = the sizes above). Latencies are of the
@@ -271,25 +272,29 @@ def case_uploads(count=6):
     side = grid_for_bytes(200e6)
     paths = [grid_obj(os.path.join(TMP, "big%d.obj" % k), side, "big %d" % k) for k in range(count)]
     size_mb = os.path.getsize(paths[0]) // 2**20
-    s = Server("uploads", ["--store", "memory", "--max-upload-bytes", str(256 << 20)])
-    try:
-        depath("upload", KITTEN, "--server", s.addr)
-        idle = {}
-        for _ in range(3):
-            for what, args in (("health", ["health"]), ("upload", ["upload", KITTEN, "--force"]),
-                               ("submit", ["submit", KITTEN, "-s", 366, "-t", 230, "--method", "fmm"])):
-                r, t = depath(*args, "--server", s.addr)
-                idle.setdefault(what, []).append((t, r.returncode))
-        s.reset_peak()
-        before = s.rss()
-        during = {}
-        results, took = concurrently([lambda p=p: depath("upload", p, "--server", s.addr, timeout=1200) for p in paths],
-                                     lambda stop: latency_probe(s, stop, during))
-        report("%d concurrent %d MB uploads (%d vertices each)" % (count, size_mb, side * side), uploads=tally(results),
-               seconds=round(took, 1), rss_before_mb=before, rss_peak_mb=s.peak(), rss_after_mb=s.rss(),
-               idle={k: summary(v) for k, v in idle.items()}, during={k: summary(v) for k, v in during.items()})
-    finally:
-        s.stop()
+    # Without the memory budget (as before it existed: a budget nothing reaches), then with its default.
+    for label, extra in (("--max-upload-memory-bytes 2^62, i.e. unbounded", ["--max-upload-memory-bytes", str(1 << 62)]),
+                         ("default --max-upload-memory-bytes", [])):
+        s = Server("uploads", ["--store", "memory", "--max-upload-bytes", str(256 << 20)] + extra)
+        try:
+            depath("upload", KITTEN, "--server", s.addr)
+            idle = {}
+            for _ in range(3):
+                for what, args in (("health", ["health"]), ("upload", ["upload", KITTEN, "--force"]),
+                                   ("submit", ["submit", KITTEN, "-s", 366, "-t", 230, "--method", "fmm"])):
+                    r, t = depath(*args, "--server", s.addr)
+                    idle.setdefault(what, []).append((t, r.returncode))
+            s.reset_peak()
+            before = s.rss()
+            during = {}
+            results, took = concurrently([lambda p=p: depath("upload", p, "--server", s.addr, timeout=1200)
+                                          for p in paths], lambda stop: latency_probe(s, stop, during))
+            report("%d concurrent %d MB uploads (%d vertices each), %s" % (count, size_mb, side * side, label),
+                   uploads=tally(results), seconds=round(took, 1), rss_before_mb=before, rss_peak_mb=s.peak(),
+                   rss_after_mb=s.rss(), idle={k: summary(v) for k, v in idle.items()},
+                   during={k: summary(v) for k, v in during.items()})
+        finally:
+            s.stop()
 
 
 def case_restart(count=8):

@@ -141,6 +141,11 @@ int main(int argc, char** argv) {
   app.add_option("--max-concurrent-uploads", o.max_concurrent_uploads,
                  "Mesh uploads in flight at once; more are refused (RESOURCE_EXHAUSTED)")
       ->capture_default_str();
+  app.add_option("--max-upload-memory-bytes", o.max_upload_memory_bytes,
+                 "Memory that mesh uploads being received and mesh parses in flight (uploads and reloads) may hold "
+                 "together, estimated as the file's bytes x 7 (x 12 for PLY); an upload that does not fit is refused "
+                 "(RESOURCE_EXHAUSTED, HTTP 429), a reload waits up to --parse-timeout-seconds")
+      ->capture_default_str();
   app.add_option("--tls-cert", o.tls_cert, "PEM certificate (chain) of the server: serve TLS (needs --tls-key)")
       ->envname("DEPATHD_TLS_CERT");
   app.add_option("--tls-key", o.tls_key, "PEM private key of --tls-cert (unencrypted)")->envname("DEPATHD_TLS_KEY");

@@ -48,6 +48,8 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
         return fail({e.code(), e.what()});
       }
       if (h.size_bytes() > ctx_.options.max_upload_bytes) return fail(too_big(h.size_bytes()));
+      memory_ = ctx_.upload_memory.hold(format_);
+      if (grpc::Status s = memory_.cover(h.size_bytes()); !s.ok()) return fail(s);  // the declared size, at once
       if (h.size_bytes() > 0) bytes_.reserve(h.size_bytes());
     } else if (request_.part_case() == v1::UploadMeshRequest::kChunk) {
       if (!have_header_) {
@@ -57,6 +59,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
       if (bytes_.size() + chunk.size() > ctx_.options.max_upload_bytes) {
         return fail(too_big(bytes_.size() + chunk.size()));
       }
+      if (grpc::Status s = memory_.cover(bytes_.size() + chunk.size()); !s.ok()) return fail(s);
       bytes_.append(chunk);
     }
     grpc_handoff(this);
@@ -94,6 +97,8 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   void fail(const grpc::Status& s) {
     ctx_.log.info("mesh.upload_refused", {{"peer", peer_}, {"code", wire::status_code_name(s.error_code())},
                                           {"reason", s.error_message()}});
+    std::string().swap(bytes_);  // no parse runs: the bytes and their room go now
+    memory_.reset();
     release_upload_slot();
     grpc_handoff(this);
     Finish(s);
@@ -110,6 +115,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
         status = current_exception_status();
       }
       std::string().swap(bytes_);
+      memory_.reset();
       release_upload_slot();
       grpc_handoff(this);
       Finish(status);
@@ -123,6 +129,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
   bool have_header_ = false;
   std::atomic<bool> holds_slot_{false};
   std::string name_, format_, bytes_;
+  UploadBudget::Hold memory_;  ///< room of bytes_ and their parse (--max-upload-memory-bytes)
 };
 
 }  // namespace

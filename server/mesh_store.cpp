@@ -172,6 +172,13 @@ std::shared_ptr<MeshRecord> MeshStore::load_from_store(const std::string& id) {
   if (!store_.keeps_meshes() || !is_mesh_id(id)) return nullptr;
   auto stored = store_.get_mesh(id);
   if (!stored) return nullptr;
+  UploadBudget::Hold memory;
+  if (parse_limits_.memory) {
+    const auto wait = std::chrono::duration<double>(std::min(parse_limits_.budget_seconds, 1e7));
+    memory = parse_limits_.memory->reserve_waiting(
+        stored->format, stored->bytes.size(), "reload of mesh " + id,
+        std::chrono::steady_clock::now() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(wait));
+  }
   auto record = parse_bounded(id, stored->name, stored->format, stored->bytes);
   log_.info("mesh.reloaded", {{"mesh", id}, {"store", store_.description()}});
   return record;

@@ -22,6 +22,7 @@
 #include "depath/wire/mesh.hpp"
 #include "log.hpp"
 #include "store/job_store.hpp"
+#include "upload_budget.hpp"
 
 namespace depath::service {
 
@@ -71,6 +72,9 @@ class MeshLease {
 struct ParseLimits {
   int max_concurrent = 2;      ///< parses at the same time; more wait for a slot
   double budget_seconds = 60;  ///< per parse, and the longest wait for a slot
+  /// Where a reload takes room for its parse (waiting up to budget_seconds); null: unbounded.
+  /// Uploads take theirs before they reach add().
+  UploadBudget* memory = nullptr;
 };
 
 /// Counters of the cache since the start (for /metrics).

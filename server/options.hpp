@@ -37,6 +37,9 @@ struct ServerOptions {
   int max_jobs_per_client = 0;            ///< queued + running jobs of one token (or certificate, or peer) in the store, all replicas; 0 = no cap
   double max_requests_per_second_per_client = 0;  ///< calls per second of one token (or peer); 0 = no cap
   int max_concurrent_uploads = 4;         ///< UploadMesh streams in flight; more: RESOURCE_EXHAUSTED
+  /// Memory of uploads being received plus mesh parses in flight, by the estimate of
+  /// upload_budget.hpp (file bytes x 7, x 12 for PLY): one text upload of --max-upload-bytes fits.
+  uint64_t max_upload_memory_bytes = 2ull << 30;
   std::string tls_cert;                   ///< PEM certificate chain: serve TLS (with tls_key)
   std::string tls_key;                    ///< PEM private key of tls_cert
   std::string tls_client_ca;              ///< PEM CA bundle: require client certificates it signed (mutual TLS)

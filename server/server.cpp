@@ -60,6 +60,7 @@ void check_options(const ServerOptions& o) {
   if (!(o.max_requests_per_second_per_client >= 0))
     bad("--max-requests-per-second-per-client must be >= 0 (0 = no cap)");
   if (o.max_concurrent_uploads < 1) bad("--max-concurrent-uploads must be >= 1");
+  if (o.max_upload_memory_bytes < 1) bad("--max-upload-memory-bytes must be >= 1");
 }
 
 std::string store_uri(const ServerOptions& o) {
@@ -91,12 +92,13 @@ struct Server::Impl {
         // worker than the threads asked for.
         pool(std::max(0, pool_workers(o) - 1)),
         store(open_store(o)),
+        upload_memory(o.max_upload_memory_bytes),
         meshes(o.mesh_cache_bytes, *store, log,
-               ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds}),
+               ParseLimits{o.max_concurrent_parses, o.parse_timeout_seconds, &upload_memory}),
         jobs(options, *store, meshes, hub, pool, log, &metrics),
         blocking(o.upload_parsers),
         access(options, log),
-        context{options, meshes, jobs, log, blocking, metrics, access},
+        context{options, meshes, jobs, log, blocking, metrics, access, upload_memory},
         mesh_service(context),
         job_service(context) {}
 
@@ -106,6 +108,7 @@ struct Server::Impl {
   ThreadPool pool;
   EventHub hub;
   std::unique_ptr<JobStore> store;
+  UploadBudget upload_memory;  // before meshes, which reserve in it
   MeshStore meshes;
   JobManager jobs;
   TaskQueue blocking;

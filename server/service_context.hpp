@@ -10,6 +10,7 @@
 #include "metrics/service_metrics.hpp"
 #include "options.hpp"
 #include "task_queue.hpp"
+#include "upload_budget.hpp"
 
 #include <grpcpp/server_context.h>
 #include <grpcpp/support/status.h>
@@ -29,6 +30,7 @@ struct ServiceContext {
   TaskQueue& blocking;  ///< for slow work (mesh parsing)
   ServiceMetrics& metrics;
   AccessGuard& access;
+  UploadBudget& upload_memory;  ///< --max-upload-memory-bytes: uploads (both transports) and parses
   std::atomic<bool> shutting_down{false};
   /// Set once a durable server's jobs are handed back at shutdown: watch streams end, after
   /// the events they have not sent yet, with UNAVAILABLE (the client reconnects).

@@ -8,9 +8,11 @@
 #include "http/job_json.hpp"
 #include "mesh_upload.hpp"
 #include "service_error.hpp"
+#include "upload_budget.hpp"
 
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <future>
 #include <sstream>
 
@@ -52,18 +54,24 @@ v1::MeshInfo upload_on_queue(HttpContext& ctx, const std::string& name, const st
 }
 
 // Reads the request body whatever its Content-Type (httplib would cap form-encoded bodies at
-// 8 KiB), up to `limit` bytes: more is RESOURCE_EXHAUSTED naming `flag`.
-std::string read_body(const httplib::ContentReader& reader, uint64_t limit, const char* flag) {
+// 8 KiB), up to `limit` bytes: more is RESOURCE_EXHAUSTED naming `flag`. With `memory`, each
+// chunk is covered by it first (an upload's room in --max-upload-memory-bytes).
+std::string read_body(const httplib::ContentReader& reader, uint64_t limit, const char* flag,
+                      UploadBudget::Hold* memory = nullptr) {
   std::string body;
   bool over = false;
+  grpc::Status refused;
   reader([&](const char* data, size_t n) {
     if (body.size() + n > limit) {
       over = true;
       return false;
     }
+    if (memory) refused = memory->cover(body.size() + n);
+    if (!refused.ok()) return false;
     body.append(data, n);
     return true;
   });
+  if (!refused.ok()) throw ServiceError(refused.error_code(), refused.error_message());
   if (over) {
     throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED, "request body over " + std::to_string(limit) +
                                                                  " bytes (" + flag + ")");
@@ -232,7 +240,18 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
                            "POST /v1/meshes needs ?format=obj|off|ply|stl (or ?name=FILE.EXT)");
       const std::string name = req.has_param("name") ? req.get_param_value("name") : "upload";
       const std::string format = upload_format(name, req.get_param_value("format"));
-      const std::string bytes = read_body(reader, ctx.service.options.max_upload_bytes, "--max-upload-bytes");
+      // The upload's room (as gRPC's UploadMesh): the declared length at once, then as it arrives.
+      UploadBudget::Hold memory = ctx.service.upload_memory.hold(format);
+      uint64_t declared = 0;
+      if (req.has_header("Content-Length")) {
+        declared = std::strtoull(req.get_header_value("Content-Length").c_str(), nullptr, 10);
+        if (declared > ctx.service.options.max_upload_bytes) {
+          const grpc::Status s = upload_too_big(ctx.service.options, declared);
+          throw ServiceError(s.error_code(), s.error_message());
+        }
+      }
+      if (grpc::Status s = memory.cover(declared); !s.ok()) throw ServiceError(s.error_code(), s.error_message());
+      const std::string bytes = read_body(reader, ctx.service.options.max_upload_bytes, "--max-upload-bytes", &memory);
       const v1::MeshInfo info = upload_on_queue(ctx, name, format, bytes, req.remote_addr);
       send_json(res, mesh_json(info));
     });

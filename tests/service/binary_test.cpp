@@ -131,7 +131,8 @@ TEST_F(BinaryTest, HelpListsEveryLimit) {
                            "--max-concurrent-parses", "--parse-timeout-seconds", "--max-generations",
                            "--max-evaluations", "--max-job-memory-bytes", "--auth-token-file",
                            "--auth-failure-burst", "--auth-failure-rate", "--max-jobs-per-client",
-                           "--max-requests-per-second-per-client", "--max-concurrent-uploads", "--tls-cert",
+                           "--max-requests-per-second-per-client", "--max-concurrent-uploads",
+                           "--max-upload-memory-bytes", "--tls-cert",
                            "--tls-key", "--tls-client-ca", "--tls-reload-seconds", "--health-listen"}) {
     EXPECT_NE(r.output.find(flag), std::string::npos) << flag;
   }

@@ -11,17 +11,24 @@ bad TLS files are refused at start with a message naming the flag; several token
 failed attempts limited per peer (RESOURCE_EXHAUSTED even for the right token, health exempt,
 served again after the refill time); reflection answers nothing without a token; quotas
 --max-jobs-per-client, --max-requests-per-second-per-client and --max-concurrent-uploads refuse
-with RESOURCE_EXHAUSTED naming the flag.
+with RESOURCE_EXHAUSTED naming the flag; --max-upload-memory-bytes bounds gRPC and HTTP uploads
+together (refused naming the flag and figures, room given back after success, failure, cancel
+and a dropped connection).
 
 Liveness bounds derive from the configured intervals and are scaled by DEPATH_TEST_TIME_SCALE."""
 import argparse
+import http.client
+import json
 import os
 import shutil
+import socket
 import subprocess
 import sys
 import tempfile
 import threading
 import time
+import urllib.error
+import urllib.request
 
 import grpc
 
@@ -423,6 +430,143 @@ def test_concurrent_uploads():
         check(len(future.result()) > 0, "the held upload failed")
         upload(iter([upload_request(header="after.off"), upload_request(chunk=mesh)]), timeout=30 * SCALE)
 
+
+def http_upload(port, body, name="kitten.off"):
+    """POST /v1/meshes: (status, error message or mesh id)."""
+    req = urllib.request.Request("http://127.0.0.1:%d/v1/meshes?name=%s" % (port, name), data=body, method="POST",
+                                 headers={"Content-Type": "application/octet-stream"})
+    try:
+        with urllib.request.urlopen(req, timeout=60 * SCALE) as resp:
+            return resp.status, json.loads(resp.read())["mesh_id"]
+    except urllib.error.HTTPError as e:
+        return e.code, json.loads(e.read())["error"]["message"]
+
+
+def http_declared_upload(port, length, name="kitten.off"):
+    """POST /v1/meshes that declares `length` bytes and sends none (a refusal comes before the
+    body is read): (status, error message)."""
+    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=60 * SCALE)
+    try:
+        conn.putrequest("POST", "/v1/meshes?name=" + name)
+        conn.putheader("Content-Length", str(length))
+        conn.endheaders()
+        resp = conn.getresponse()
+        return resp.status, json.loads(resp.read())["error"]["message"]
+    finally:
+        conn.close()
+
+
+def test_upload_memory_budget():
+    """--max-upload-memory-bytes: gRPC and HTTP uploads share one budget of estimated memory
+    (file bytes x 7 for OFF, upload_budget.cpp). The budget here holds one kitten upload (and a
+    cone beside it) but not two kittens; an upload over the whole budget is refused at once."""
+    with open(ARGS.mesh, "rb") as f:
+        kitten = f.read()
+    with open(os.path.join(os.path.dirname(ARGS.mesh), "cone.off"), "rb") as f:
+        cone = f.read()
+    kitten_need, cone_need = 7 * len(kitten), 7 * len(cone)
+    budget = kitten_need + cone_need + 1000
+    check(budget < 2 * kitten_need, "test data: two kittens must not fit")
+    http_port_file = path("http-port")
+    if os.path.exists(http_port_file):
+        os.remove(http_port_file)
+    with Server("--max-upload-memory-bytes", budget, "--http-listen", "127.0.0.1:0", "--http-port-file",
+                http_port_file) as s:
+        deadline = time.monotonic() + 30 * SCALE
+        while not (os.path.exists(http_port_file) and open(http_port_file).read().strip()):
+            check(time.monotonic() < deadline, "no HTTP port")
+            time.sleep(0.05)
+        http_port = int(open(http_port_file).read())
+        chan = channel(s)
+        upload = chan.stream_unary(UPLOAD, request_serializer=lambda x: x, response_deserializer=lambda x: x)
+
+        def grpc_upload(name, data):
+            try:
+                upload(iter([upload_request(header=name), upload_request(chunk=data)]), timeout=60 * SCALE)
+                return grpc.StatusCode.OK, ""
+            except grpc.RpcError as e:
+                return e.code(), e.details()
+
+        def refused_for_memory(result, whole=False):
+            code, message = result
+            return (code in (grpc.StatusCode.RESOURCE_EXHAUSTED, 429) and "--max-upload-memory-bytes" in message and
+                    ("whole budget" in message if whole else "try again shortly" in message))
+
+        # Larger than the whole budget: refused at once on both transports, naming the flag and the figures.
+        big = kitten * 3
+        for result in (grpc_upload("big.off", big), http_declared_upload(http_port, len(big), "big.off")):
+            check(refused_for_memory(result, whole=True), "upload over the whole budget: %s %s" % result)
+            check(str(7 * len(big)) in result[1] and str(budget) in result[1], "figures missing: " + result[1])
+
+        # A held gRPC upload (its kitten received, the stream kept open) takes a kitten's room.
+        release = threading.Event()
+
+        def held(tail, body=kitten):
+            yield upload_request(header="held.off")
+            yield upload_request(chunk=body)
+            release.wait(60 * SCALE)
+            yield upload_request(chunk=tail)
+
+        future = upload.future(held(b"\n"), timeout=120 * SCALE)
+        deadline = time.monotonic() + 30 * SCALE
+        while True:  # until the held stream's chunk has arrived: a second kitten is refused
+            result = grpc_upload("second.off", kitten)
+            if refused_for_memory(result):
+                break
+            check(result[0] == grpc.StatusCode.OK, "second upload: %s %s" % result)
+            check(time.monotonic() < deadline and not future.done(), "a second kitten was never refused")
+            time.sleep(0.05)
+        check(refused_for_memory(http_declared_upload(http_port, len(kitten))),
+              "HTTP kitten beside the held gRPC one not refused")
+        check(grpc_upload("cone.off", cone)[0] == grpc.StatusCode.OK, "a cone within the budget was refused")
+        check(http_upload(http_port, cone, "cone.off")[0] == 200, "an HTTP cone within the budget was refused")
+        release.set()
+        check(len(future.result()) > 0, "the held upload failed")
+        # Its room is free again: a kitten fits (on both transports).
+        check(grpc_upload("after.off", kitten)[0] == grpc.StatusCode.OK, "no room after the held upload ended")
+        check(http_upload(http_port, kitten)[0] == 200, "no room for HTTP after the held upload ended")
+
+        # Room is given back after failures too: a held upload whose bytes do not parse, one the
+        # client cancels, and an HTTP upload whose client goes away after half its body.
+        def until(what, cond):
+            deadline = time.monotonic() + 30 * SCALE
+            while True:
+                result = grpc_upload("probe.off", kitten)
+                if cond(result):
+                    return
+                check(time.monotonic() < deadline, "%s: %s %s" % (what, result[0], result[1]))
+                time.sleep(0.05)
+
+        def kitten_refused(result):
+            return refused_for_memory(result)
+
+        def kitten_fits(result):
+            return result[0] == grpc.StatusCode.OK
+
+        release.clear()
+        future = upload.future(held(b"\n", b"#" * len(kitten)), timeout=120 * SCALE)  # no OFF header
+        until("the held upload never took its room", kitten_refused)
+        release.set()
+        try:
+            future.result()
+            check(False, "bad bytes were accepted")
+        except grpc.RpcError as e:
+            check(e.code() == grpc.StatusCode.INVALID_ARGUMENT, "bad bytes: %s %s" % (e.code(), e.details()))
+        check(kitten_fits(grpc_upload("after-bad.off", kitten)), "no room after a failed parse")
+
+        release.clear()
+        future = upload.future(held(b"\n"), timeout=120 * SCALE)
+        until("the held upload never took its room", kitten_refused)
+        future.cancel()
+        until("room never given back after a cancel", kitten_fits)  # the server sees the cancel on its own time
+        release.set()
+
+        with socket.create_connection(("127.0.0.1", http_port)) as sock:
+            sock.sendall(b"POST /v1/meshes?name=half.off HTTP/1.1\r\nHost: x\r\nContent-Length: %d\r\n\r\n"
+                         % len(kitten) + kitten[:len(kitten) // 2])
+            until("a half-sent HTTP upload never took its declared room", kitten_refused)
+        until("room never given back after a dropped HTTP upload", kitten_fits)
+        check(http_upload(http_port, kitten)[0] == 200, "no room for HTTP after the failures")
 
 def main():
     global ARGS, WORK

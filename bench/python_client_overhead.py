@@ -26,7 +26,8 @@ def main():
     args = binaries_parser(__doc__, source=0, target=320, repeat=5).parse_args()
 
     work = tempfile.mkdtemp(prefix="depath-overhead-")
-    server, port = start_depathd(args.depathd, os.path.join(work, "port"), os.path.join(work, "depathd.log"))
+    server, port = start_depathd(args.depathd, os.path.join(work, "port"), os.path.join(work, "depathd.log"),
+                                 ["--store", "memory"])  # a benchmark writes nothing into the user's state directory
     try:
         address = "127.0.0.1:" + port
         rows = {"cli": [], "python": []}

@@ -20,6 +20,7 @@ import argparse
 import http.client
 import json
 import os
+import select
 import shutil
 import socket
 import subprocess
@@ -507,15 +508,33 @@ def test_upload_memory_budget():
             release.wait(60 * SCALE)
             yield upload_request(chunk=tail)
 
-        future = upload.future(held(b"\n"), timeout=120 * SCALE)
-        deadline = time.monotonic() + 30 * SCALE
-        while True:  # until the held stream's chunk has arrived: a second kitten is refused
-            result = grpc_upload("second.off", kitten)
-            if refused_for_memory(result):
-                break
-            check(result[0] == grpc.StatusCode.OK, "second upload: %s %s" % result)
-            check(time.monotonic() < deadline and not future.done(), "a second kitten was never refused")
-            time.sleep(0.05)
+        def hold_room(start, lost):
+            """Starts an upload that is to hold a kitten's room and returns its handle once it does
+            (a kitten probe is refused). A probe may take the room first, when the held upload's
+            bytes reach the server during the probe: the held one is then refused for memory
+            (lost(handle)) and started again. Only the held upload can hold room between probes."""
+            deadline = time.monotonic() + 30 * SCALE
+            handle = start()
+            time.sleep(0.2 * SCALE)  # let its bytes arrive before the first probe
+            while True:
+                result = grpc_upload("probe.off", kitten)
+                if refused_for_memory(result):
+                    return handle
+                check(result[0] == grpc.StatusCode.OK, "probe upload: %s %s" % result)
+                if lost(handle):
+                    handle = start()
+                check(time.monotonic() < deadline, "the held upload never took its room")
+                time.sleep(0.05)
+
+        def grpc_lost(future):
+            if not future.done():
+                return False
+            e = future.exception()
+            check(e is not None and refused_for_memory((e.code(), e.details())),
+                  "the held upload ended otherwise: %s" % e)
+            return True
+
+        future = hold_room(lambda: upload.future(held(b"\n"), timeout=120 * SCALE), grpc_lost)
         check(refused_for_memory(http_declared_upload(http_port, len(kitten))),
               "HTTP kitten beside the held gRPC one not refused")
         check(grpc_upload("cone.off", cone)[0] == grpc.StatusCode.OK, "a cone within the budget was refused")
@@ -537,15 +556,12 @@ def test_upload_memory_budget():
                 check(time.monotonic() < deadline, "%s: %s %s" % (what, result[0], result[1]))
                 time.sleep(0.05)
 
-        def kitten_refused(result):
-            return refused_for_memory(result)
-
         def kitten_fits(result):
             return result[0] == grpc.StatusCode.OK
 
         release.clear()
-        future = upload.future(held(b"\n", b"#" * len(kitten)), timeout=120 * SCALE)  # no OFF header
-        until("the held upload never took its room", kitten_refused)
+        future = hold_room(lambda: upload.future(held(b"\n", b"#" * len(kitten)), timeout=120 * SCALE),  # no OFF header
+                           grpc_lost)
         release.set()
         try:
             future.result()
@@ -555,16 +571,26 @@ def test_upload_memory_budget():
         check(kitten_fits(grpc_upload("after-bad.off", kitten)), "no room after a failed parse")
 
         release.clear()
-        future = upload.future(held(b"\n"), timeout=120 * SCALE)
-        until("the held upload never took its room", kitten_refused)
+        future = hold_room(lambda: upload.future(held(b"\n"), timeout=120 * SCALE), grpc_lost)
         future.cancel()
         until("room never given back after a cancel", kitten_fits)  # the server sees the cancel on its own time
         release.set()
 
-        with socket.create_connection(("127.0.0.1", http_port)) as sock:
+        def http_half():
+            sock = socket.create_connection(("127.0.0.1", http_port))
             sock.sendall(b"POST /v1/meshes?name=half.off HTTP/1.1\r\nHost: x\r\nContent-Length: %d\r\n\r\n"
                          % len(kitten) + kitten[:len(kitten) // 2])
-            until("a half-sent HTTP upload never took its declared room", kitten_refused)
+            return sock
+
+        def http_lost(sock):  # the server answers a half-sent upload only to refuse it
+            if not select.select([sock], [], [], 0)[0]:
+                return False
+            answer = sock.recv(65536)
+            sock.close()
+            check(answer.startswith(b"HTTP/1.1 429"), "the half-sent HTTP upload got: %r" % answer[:200])
+            return True
+
+        hold_room(http_half, http_lost).close()
         until("room never given back after a dropped HTTP upload", kitten_fits)
         check(http_upload(http_port, kitten)[0] == 200, "no room for HTTP after the failures")
 

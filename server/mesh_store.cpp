@@ -185,7 +185,7 @@ std::shared_ptr<MeshRecord> MeshStore::load_from_store(const std::string& id) {
 }
 
 std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
-  std::promise<std::shared_ptr<Record>> promise;
+  std::promise<Loaded> promise;
   {
     std::unique_lock lock(mutex_);
     auto it = records_.find(id);
@@ -199,7 +199,9 @@ std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
     if (loading != loading_.end()) {
       auto pending = loading->second;
       lock.unlock();
-      return pending.get();  // another request's parse of the same mesh (rethrows its error)
+      const Loaded& loaded = pending.get();  // another request's parse of the same mesh
+      if (!loaded.record) throw ServiceError(loaded.status.error_code(), loaded.status.error_message());
+      return loaded.record;
     }
     loading_.emplace(id, promise.get_future().share());
   }
@@ -215,10 +217,10 @@ std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
       std::lock_guard lock(mutex_);
       loading_.erase(id);
     }
-    promise.set_exception(std::current_exception());
+    promise.set_value({nullptr, current_exception_status()});
     throw;
   }
-  promise.set_value(stored);
+  promise.set_value({stored, grpc::Status::OK});
   return stored;
 }
 

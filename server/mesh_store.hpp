@@ -5,6 +5,8 @@
 // uploaded the mesh).
 #pragma once
 
+#include <grpcpp/support/status.h>
+
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
@@ -155,8 +157,14 @@ class MeshStore {
   std::list<std::string> lru_;  // most recent first
   uint64_t bytes_ = 0;
   MeshCacheStats stats_;  // hits, misses, evictions (guarded by mutex_)
+  // How a reload ended: the record, or the error as a status (an exception object shared by
+  // the waiting threads would be freed through a count TSan cannot see).
+  struct Loaded {
+    std::shared_ptr<Record> record;
+    grpc::Status status;
+  };
   // Reloads in flight, so that concurrent requests for one mesh wait for a single parse.
-  std::unordered_map<std::string, std::shared_future<std::shared_ptr<Record>>> loading_;
+  std::unordered_map<std::string, std::shared_future<Loaded>> loading_;
 
   const ParseLimits parse_limits_;
   std::mutex parse_mutex_;

@@ -43,14 +43,29 @@ const char* content_type_of(const std::string& format) {
   return "text/plain";  // OBJ and PLY polylines are text
 }
 
-// Parsing a mesh is slow: it runs on the same bounded queue as gRPC uploads.
+// Parsing a mesh is slow: it runs on the same bounded queue as gRPC uploads. Its error comes
+// back as a status, not as the exception object: one shared by two threads is freed by
+// whichever lets go last, through libstdc++'s reference count, which TSan cannot see.
 v1::MeshInfo upload_on_queue(HttpContext& ctx, const std::string& name, const std::string& format,
                              const std::string& bytes, const std::string& peer) {
-  auto task = std::make_shared<std::packaged_task<v1::MeshInfo()>>(
-      [&] { return store_upload(ctx.service, name, format, bytes, "http", peer); });
+  struct Outcome {
+    v1::MeshInfo info;
+    grpc::Status status;
+  };
+  auto task = std::make_shared<std::packaged_task<Outcome()>>([&] {
+    Outcome out;
+    try {
+      out.info = store_upload(ctx.service, name, format, bytes, "http", peer);
+    } catch (...) {
+      out.status = current_exception_status();
+    }
+    return out;
+  });
   auto done = task->get_future();
   ctx.service.blocking.post([task] { (*task)(); });
-  return done.get();  // rethrows the upload's error
+  Outcome out = done.get();
+  if (!out.status.ok()) throw ServiceError(out.status.error_code(), out.status.error_message());
+  return std::move(out.info);
 }
 
 // Reads the request body whatever its Content-Type (httplib would cap form-encoded bodies at

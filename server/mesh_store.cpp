@@ -200,7 +200,7 @@ std::shared_ptr<MeshRecord> MeshStore::lookup_or_load(const std::string& id) {
       auto pending = loading->second;
       lock.unlock();
       const Loaded& loaded = pending.get();  // another request's parse of the same mesh
-      if (!loaded.record) throw ServiceError(loaded.status.error_code(), loaded.status.error_message());
+      throw_if_error(loaded.status);
       return loaded.record;
     }
     loading_.emplace(id, promise.get_future().share());

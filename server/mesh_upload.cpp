@@ -37,10 +37,7 @@ v1::MeshInfo store_upload(ServiceContext& ctx, const std::string& name, const st
   try {
     if (bytes.empty())
       throw ServiceError(grpc::StatusCode::INVALID_ARGUMENT, "upload of '" + name + "' has no bytes");
-    if (bytes.size() > ctx.options.max_upload_bytes) {
-      const grpc::Status s = upload_too_big(ctx.options, bytes.size());
-      throw ServiceError(s.error_code(), s.error_message());
-    }
+    if (bytes.size() > ctx.options.max_upload_bytes) throw_if_error(upload_too_big(ctx.options, bytes.size()));
     ctx.metrics.upload(bytes.size(), transport);
     const std::string id = wire::sha256_hex(bytes);
     v1::MeshInfo info = ctx.meshes.add(id, name, format, bytes);

@@ -23,6 +23,11 @@ class ServiceError : public std::runtime_error {
   grpc::StatusCode code_;
 };
 
+/// Throws a failed status as a ServiceError (its code and message); an OK status passes.
+inline void throw_if_error(const grpc::Status& status) {
+  if (!status.ok()) throw ServiceError(status.error_code(), status.error_message());
+}
+
 /// Status for the exception being handled (call inside a catch block).
 inline grpc::Status current_exception_status() {
   try {

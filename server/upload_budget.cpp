@@ -46,9 +46,9 @@ grpc::Status UploadBudget::Hold::cover(uint64_t file_bytes) {
   if (!budget_) return grpc::Status::OK;  // an empty default Hold: no budget to account against
   const uint64_t need = estimate(file_bytes, format_);
   if (need <= held_) return grpc::Status::OK;
-  grpc::Status s = budget_->take(*this, file_bytes, need, need - held_);
-  if (s.ok()) held_ = need;
-  return s;
+  if (!budget_->take(need, held_)) return budget_->refusal(*this, file_bytes, need);
+  held_ = need;
+  return grpc::Status::OK;
 }
 
 void UploadBudget::Hold::reset() {
@@ -56,7 +56,16 @@ void UploadBudget::Hold::reset() {
   held_ = 0;
 }
 
-grpc::Status UploadBudget::take(const Hold& hold, uint64_t file_bytes, uint64_t need, uint64_t extra) {
+bool UploadBudget::take(uint64_t need, uint64_t held) {
+  if (need > budget_) return false;
+  std::lock_guard lock(mutex_);
+  if (held_ - held + need > budget_) return false;
+  held_ += need - held;
+  return true;
+}
+
+// Built only when refusing: cover() runs for every chunk of an upload.
+grpc::Status UploadBudget::refusal(const Hold& hold, uint64_t file_bytes, uint64_t need) {
   const std::string figures = hold.what_ + " of " + std::to_string(file_bytes) + " bytes (" + hold.format_ +
                               ") needs an estimated " + std::to_string(need) +
                               " bytes of memory to receive and parse (the file's bytes x " +
@@ -67,15 +76,10 @@ grpc::Status UploadBudget::take(const Hold& hold, uint64_t file_bytes, uint64_t 
                                                       " bytes (--max-upload-memory-bytes): it cannot be "
                                                       "accepted; send a smaller mesh or raise the flag"};
   }
-  std::lock_guard lock(mutex_);
-  if (held_ + extra > budget_) {
-    return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-            figures + "; uploads and parses in flight hold " + std::to_string(held_ - (need - extra)) +
-                " of the " + std::to_string(budget_) +
-                " bytes (--max-upload-memory-bytes); try again shortly"};
-  }
-  held_ += extra;
-  return grpc::Status::OK;
+  return {grpc::StatusCode::RESOURCE_EXHAUSTED, figures + "; uploads and parses in flight hold " +
+                                                    std::to_string(held_bytes() - hold.held_) + " of the " +
+                                                    std::to_string(budget_) +
+                                                    " bytes (--max-upload-memory-bytes); try again shortly"};
 }
 
 void UploadBudget::give_back(uint64_t bytes) {
@@ -94,8 +98,7 @@ UploadBudget::Hold UploadBudget::reserve_waiting(const std::string& format, uint
   for (;;) {
     const grpc::Status s = h.cover(file_bytes);
     if (s.ok()) return h;
-    if (need > budget_ || std::chrono::steady_clock::now() >= deadline)
-      throw ServiceError(s.error_code(), s.error_message());
+    if (need > budget_ || std::chrono::steady_clock::now() >= deadline) throw_if_error(s);
     std::unique_lock lock(mutex_);
     freed_.wait_until(lock, deadline, [&] { return held_ + need <= budget_; });
   }

@@ -71,8 +71,10 @@ class UploadBudget {
   uint64_t held_bytes();
 
  private:
-  /// Takes `extra` bytes for a hold that needs `need` in all: OK or the refusal.
-  grpc::Status take(const Hold& hold, uint64_t file_bytes, uint64_t need, uint64_t extra);
+  /// Grows a hold of `held` bytes to `need` if the budget has room; false if not.
+  bool take(uint64_t need, uint64_t held);
+  /// The RESOURCE_EXHAUSTED a hold gets when take() refuses it, with the figures.
+  grpc::Status refusal(const Hold& hold, uint64_t file_bytes, uint64_t need);
   void give_back(uint64_t bytes);
 
   const uint64_t budget_;

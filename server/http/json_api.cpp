@@ -64,7 +64,7 @@ v1::MeshInfo upload_on_queue(HttpContext& ctx, const std::string& name, const st
   auto done = task->get_future();
   ctx.service.blocking.post([task] { (*task)(); });
   Outcome out = done.get();
-  if (!out.status.ok()) throw ServiceError(out.status.error_code(), out.status.error_message());
+  throw_if_error(out.status);
   return std::move(out.info);
 }
 
@@ -86,7 +86,7 @@ std::string read_body(const httplib::ContentReader& reader, uint64_t limit, cons
     body.append(data, n);
     return true;
   });
-  if (!refused.ok()) throw ServiceError(refused.error_code(), refused.error_message());
+  throw_if_error(refused);
   if (over) {
     throw ServiceError(grpc::StatusCode::RESOURCE_EXHAUSTED, "request body over " + std::to_string(limit) +
                                                                  " bytes (" + flag + ")");
@@ -260,12 +260,9 @@ void add_json_api(httplib::Server& server, HttpContext& ctx) {
       uint64_t declared = 0;
       if (req.has_header("Content-Length")) {
         declared = std::strtoull(req.get_header_value("Content-Length").c_str(), nullptr, 10);
-        if (declared > ctx.service.options.max_upload_bytes) {
-          const grpc::Status s = upload_too_big(ctx.service.options, declared);
-          throw ServiceError(s.error_code(), s.error_message());
-        }
+        if (declared > ctx.service.options.max_upload_bytes) throw_if_error(upload_too_big(ctx.service.options, declared));
       }
-      if (grpc::Status s = memory.cover(declared); !s.ok()) throw ServiceError(s.error_code(), s.error_message());
+      throw_if_error(memory.cover(declared));
       const std::string bytes = read_body(reader, ctx.service.options.max_upload_bytes, "--max-upload-bytes", &memory);
       const v1::MeshInfo info = upload_on_queue(ctx, name, format, bytes, req.remote_addr);
       send_json(res, mesh_json(info));

@@ -123,6 +123,16 @@ std::string finished_spec_blob(const v1::JobSpec& spec) {
   return slim.SerializeAsString();
 }
 
+// The job's stored result (none if it has none).
+std::optional<v1::JobResult> read_result(SqlSession& s, const std::string& id) {
+  auto rows = s.exec("SELECT body FROM results WHERE job_id = $1", {id}).rows;
+  if (rows.empty()) return std::nullopt;
+  v1::JobResult result;
+  if (!result.ParseFromString(sql_string(rows[0][0])))
+    throw StoreError("job " + id + ": the stored result is damaged");
+  return result;
+}
+
 bool terminal(int state) {
   return state == v1::JOB_STATE_SUCCEEDED || state == v1::JOB_STATE_FAILED ||
          state == v1::JOB_STATE_CANCELLED;
@@ -495,12 +505,7 @@ bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, i
 
 std::optional<v1::JobResult> JobStore::get_result(const std::string& id) {
   auto s = db_->session();
-  auto rows = s->exec("SELECT body FROM results WHERE job_id = $1", {id}).rows;
-  if (rows.empty()) return std::nullopt;
-  v1::JobResult result;
-  if (!result.ParseFromString(sql_string(rows[0][0])))
-    throw StoreError("job " + id + ": the stored result is damaged");
-  return result;
+  return read_result(*s, id);
 }
 
 std::string JobStore::get_checkpoint(const std::string& id) {
@@ -661,9 +666,9 @@ std::vector<v1::JobEvent> JobStore::events_after(const std::string& id, uint64_t
     v1::JobEvent e;
     if (!e.ParseFromString(sql_string(r[0]))) throw StoreError("job " + id + ": a stored event is damaged");
     if (e.has_result() && e.result().ByteSizeLong() == 0) {  // stored without its payload (finish)
-      auto result = s->exec("SELECT body FROM results WHERE job_id = $1", {id}).rows;
-      if (result.empty() || !e.mutable_result()->ParseFromString(sql_string(result[0][0])))
-        throw StoreError("job " + id + ": the stored result is missing or damaged");
+      auto result = read_result(*s, id);
+      if (!result) throw StoreError("job " + id + ": the stored result is missing");
+      *e.mutable_result() = std::move(*result);
     }
     out.push_back(std::move(e));
   }

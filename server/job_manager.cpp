@@ -48,6 +48,34 @@ v1::JobEvent state_event(v1::JobState state, int code, const std::string& messag
   return ev;
 }
 
+/// The generations a runner reported that the store's history does not have yet, under a
+/// lock of their own: the runner adds one per generation, each store write (progress,
+/// checkpoint, finish) sends a copy and drops what the store took, a history request reads one.
+class UnstoredHistory {
+ public:
+  void add(const ProgressPoint& p) {
+    std::lock_guard lock(mutex_);
+    points_.push_back(p);
+    // Bounded while the store is busy: thinned as the stored history is.
+    if (points_.size() > 2 * kProgressHistoryPoints) thin_progress_history(points_, p.generation);
+  }
+  std::vector<ProgressPoint> copy() const {
+    std::lock_guard lock(mutex_);
+    return points_;
+  }
+  /// The store took `points` (a copy): they leave, the generations reported since stay.
+  void stored(const std::vector<ProgressPoint>& points) {
+    if (points.empty()) return;
+    const int upto = points.back().generation;
+    std::lock_guard lock(mutex_);
+    std::erase_if(points_, [upto](const ProgressPoint& p) { return p.generation <= upto; });
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<ProgressPoint> points_;
+};
+
 std::chrono::steady_clock::duration seconds(double s) {
   return std::chrono::duration_cast<std::chrono::steady_clock::duration>(std::chrono::duration<double>(s));
 }
@@ -62,26 +90,12 @@ struct JobManager::Running {
   std::atomic<bool> lost{false};     // the lease went to another replica: write nothing more
   uint64_t reserved = 0;             // sequences reserved in the store (runner thread only)
   std::optional<v1::JobEvent> unstored_progress;  // the latest progress, if not stored (runner thread only)
+  UnstoredHistory unstored_history;  // generations the store's history lacks (its own lock)
   // Guarded by JobManager::mutex_:
   int cancel_code = kCancelled;
   std::string cancel_message;
   std::optional<v1::Progress> last_progress;
-  std::vector<ProgressPoint> unstored_history;  // generations not in the store's history yet
   double started = 0;
-
-  /// A copy of unstored_history, for a store write outside the lock (`mutex`: JobManager's).
-  std::vector<ProgressPoint> history_to_store(std::mutex& mutex) {
-    std::lock_guard lock(mutex);
-    return unstored_history;
-  }
-  /// The store took `points` (a copy from history_to_store): they leave unstored_history,
-  /// the generations reported since stay.
-  void history_stored(std::mutex& mutex, const std::vector<ProgressPoint>& points) {
-    if (points.empty()) return;
-    const int upto = points.back().generation;
-    std::lock_guard lock(mutex);
-    std::erase_if(unstored_history, [upto](const ProgressPoint& p) { return p.generation <= upto; });
-  }
 };
 
 JobManager::JobManager(const ServerOptions& options, JobStore& store, MeshStore& meshes, EventHub& hub,
@@ -257,12 +271,13 @@ v1::JobInfo JobManager::get(const std::string& job_id) {
 std::vector<ProgressPoint> JobManager::progress_history(const std::string& job_id) {
   // The runner's points not stored yet first: read after them, the store has every point
   // they lose to a concurrent flush.
-  std::vector<ProgressPoint> unstored;
+  std::shared_ptr<Running> run;
   {
     std::lock_guard lock(mutex_);
-    auto run = running_.find(job_id);
-    if (run != running_.end()) unstored = run->second->unstored_history;
+    auto it = running_.find(job_id);
+    if (it != running_.end()) run = it->second;
   }
+  const std::vector<ProgressPoint> unstored = run ? run->unstored_history.copy() : std::vector<ProgressPoint>{};
   std::vector<ProgressPoint> history = store_.progress_history(job_id);
   // Points name a job that exists; without any, read the job (with its spec) only to answer
   // NOT_FOUND for an unknown one.
@@ -437,9 +452,9 @@ bool JobManager::emit(Running& run, v1::JobEvent event, bool persist) {
     // it is busy, this one stays unstored and a later one (or the finish) is stored instead.
     auto stored = JobStore::Append::busy;
     std::vector<ProgressPoint> history;
-    if (persist && event.has_progress()) history = run.history_to_store(mutex_);
+    if (persist && event.has_progress()) history = run.unstored_history.copy();
     if (persist) stored = store_.append_event(run.id, replica_, event, !event.has_progress(), history);
-    if (stored == JobStore::Append::stored) run.history_stored(mutex_, history);
+    if (stored == JobStore::Append::stored) run.unstored_history.stored(history);
     if (stored == JobStore::Append::lost) {
       run.lost.store(true);
       run.cancel.store(true);
@@ -546,12 +561,12 @@ void JobManager::execute(Running& run, const JobRecord& job) {
     last_checkpoint = std::chrono::steady_clock::now();
     if (!store_.durable() || run.lost.load()) return;
     int generation = 0;  // the checkpoint is taken before the generation after the last reported one
-    std::vector<ProgressPoint> history;  // stored with it: a resume from it leaves no gap in the history
     {
       std::lock_guard lock(mutex_);
       if (run.last_progress) generation = run.last_progress->generation();
-      history = run.unstored_history;
     }
+    // Stored with it: a resume from it leaves no gap in the history.
+    std::vector<ProgressPoint> history = run.unstored_history.copy();
     if (generation == 0) generation = std::max(0, resumed_generation);
     if (writing.valid()) writing.get();  // a suspend's checkpoint follows the one being written
     writing = std::async(std::launch::async, [this, &run, id = job.id, generation, bytes = std::move(bytes),
@@ -562,7 +577,7 @@ void JobManager::execute(Running& run, const JobRecord& job) {
           run.lost.store(true);
           run.cancel.store(true);
         } else {
-          run.history_stored(mutex_, history);
+          run.unstored_history.stored(history);
         }
         log_.debug(
             "job.checkpointed",
@@ -604,14 +619,13 @@ void JobManager::execute(Running& run, const JobRecord& job) {
     count_progress(p);
     v1::JobEvent ev;
     wire::progress_to_proto(mesh, p, ev.mutable_progress());
+    run.unstored_history.add({p.generation, p.best_energy, p.mean_energy});
     {
+      // The summary JobInfo shows, without the path (set aside rather than copied and cleared).
+      std::unique_ptr<v1::Path> path(ev.mutable_progress()->release_best_path());
       std::lock_guard lock(mutex_);
       run.last_progress = ev.progress();
-      run.last_progress->clear_best_path();
-      run.unstored_history.push_back({p.generation, p.best_energy, p.mean_energy});
-      // Bounded while the store is busy: thinned as the stored history is.
-      if (run.unstored_history.size() > 2 * kProgressHistoryPoints)
-        thin_progress_history(run.unstored_history, p.generation);
+      ev.mutable_progress()->set_allocated_best_path(path.release());
     }
     const auto now = std::chrono::steady_clock::now();
     const bool persist = now - last_persist >= seconds(persist_every);
@@ -695,7 +709,7 @@ void JobManager::finish(Running& run, v1::JobState state, int code, const std::s
   std::vector<v1::JobEvent> stored = events;
   if (run.unstored_progress) stored.insert(stored.begin(), *run.unstored_progress);
   if (run.lost.load() ||
-      !store_.finish(run.id, replica_, result.get(), stored, run.history_to_store(mutex_))) {
+      !store_.finish(run.id, replica_, result.get(), stored, run.unstored_history.copy())) {
     log_.warn("job.lease_lost",
               {{"job", run.id}, {"reason", "finished elsewhere or taken over; result dropped"}});
     return;

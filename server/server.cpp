@@ -28,7 +28,6 @@
 #include "reflection_guard.hpp"
 #include "service_context.hpp"
 #include "store/job_store.hpp"
-#include "task_queue.hpp"
 #include "tls_credentials.hpp"
 
 namespace depath::service {
@@ -111,7 +110,7 @@ struct Server::Impl {
   UploadBudget upload_memory;  // before meshes, which reserve in it
   MeshStore meshes;
   JobManager jobs;
-  TaskQueue blocking;
+  ThreadPool blocking;  // tasks still queued at shutdown run before it is destroyed
   AccessGuard access;
   ServiceContext context;
   MeshServiceImpl mesh_service;

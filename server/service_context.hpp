@@ -3,15 +3,6 @@
 // checks that every call goes through (authentication and request rate, shutting down).
 #pragma once
 
-#include "access_guard.hpp"
-#include "job_manager.hpp"
-#include "log.hpp"
-#include "mesh_store.hpp"
-#include "metrics/service_metrics.hpp"
-#include "options.hpp"
-#include "task_queue.hpp"
-#include "upload_budget.hpp"
-
 #include <grpcpp/server_context.h>
 #include <grpcpp/support/status.h>
 
@@ -20,6 +11,15 @@
 #include <string>
 #include <string_view>
 
+#include "access_guard.hpp"
+#include "depath/util/thread_pool.hpp"
+#include "job_manager.hpp"
+#include "log.hpp"
+#include "mesh_store.hpp"
+#include "metrics/service_metrics.hpp"
+#include "options.hpp"
+#include "upload_budget.hpp"
+
 namespace depath::service {
 
 struct ServiceContext {
@@ -27,7 +27,7 @@ struct ServiceContext {
   MeshStore& meshes;
   JobManager& jobs;
   Log& log;
-  TaskQueue& blocking;  ///< for slow work (mesh parsing)
+  ThreadPool& blocking;  ///< its own workers for slow work (mesh parsing), off gRPC's threads
   ServiceMetrics& metrics;
   AccessGuard& access;
   UploadBudget& upload_memory;  ///< --max-upload-memory-bytes: uploads (both transports) and parses
@@ -64,8 +64,9 @@ struct ServiceContext {
     if (parked.fetch_add(1) >= limit) {
       parked.fetch_sub(1);
       return {grpc::StatusCode::RESOURCE_EXHAUSTED,
-              std::to_string(limit) + " calls already wait for meshes to reload from the store "
-              "(--max-queued-jobs + --max-running-jobs); try again shortly"};
+              std::to_string(limit) +
+                  " calls already wait for meshes to reload from the store "
+                  "(--max-queued-jobs + --max-running-jobs); try again shortly"};
     }
     return grpc::Status::OK;
   }

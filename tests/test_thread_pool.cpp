@@ -1,13 +1,16 @@
 // SPDX-License-Identifier: MIT
-// ThreadPool: every index once, distinct slots per batch, many callers, exceptions.
-#include "depath/util/thread_pool.hpp"
-
+// ThreadPool: every index once, distinct slots per batch, many callers, exceptions, posted
+// tasks (run off the caller, drained at destruction, taking turns with loops).
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <future>
 #include <stdexcept>
 #include <thread>
 #include <vector>
+
+#include "depath/util/thread_pool.hpp"
 
 namespace depath {
 namespace {
@@ -57,6 +60,53 @@ TEST(ThreadPool, RethrowsTheFirstExceptionAfterDraining) {
   std::atomic<int> after{0};
   pool.parallel_for(10, [&](int, int) { ++after; });
   EXPECT_EQ(after.load(), 10);
+}
+
+TEST(ThreadPool, PostedTasksRunOnWorkersAndDrainAtDestruction) {
+  std::atomic<int> ran{0};
+  std::atomic<bool> on_caller{false};
+  const auto caller = std::this_thread::get_id();
+  {
+    ThreadPool pool(2);
+    for (int i = 0; i < 500; ++i) {
+      pool.post([&] {
+        if (std::this_thread::get_id() == caller) on_caller = true;
+        ++ran;
+      });
+    }
+  }  // the destructor waits for all 500
+  EXPECT_EQ(ran.load(), 500);
+  EXPECT_FALSE(on_caller.load());
+}
+
+TEST(ThreadPool, APostedTaskRunsAtOnceWithoutWorkers) {
+  ThreadPool pool(0);
+  int ran = 0;
+  pool.post([&] { ++ran; });
+  EXPECT_EQ(ran, 1);
+}
+
+// A task blocked on a worker leaves the other worker to the loops, and a loop's caller
+// never waits for tasks: its own batch always makes progress.
+TEST(ThreadPool, LoopsGoOnWhileATaskBlocksAWorker) {
+  // Declared before the pool, so they outlive the workers that use them.
+  std::promise<void> started;
+  std::promise<void> release;
+  std::promise<void> second;
+  std::shared_future<void> released = release.get_future().share();
+  ThreadPool pool(2);
+  pool.post([&] {
+    started.set_value();
+    released.wait();
+  });
+  started.get_future().wait();
+  std::atomic<int> sum{0};
+  for (int round = 0; round < 20; ++round) pool.parallel_for(50, [&](int, int i) { sum += i; });
+  EXPECT_EQ(sum.load(), 20 * (49 * 50 / 2));
+  // A task posted now runs on the free worker, not behind the blocked one.
+  pool.post([&] { second.set_value(); });
+  EXPECT_EQ(second.get_future().wait_for(std::chrono::minutes(5)), std::future_status::ready);
+  release.set_value();
 }
 
 }  // namespace

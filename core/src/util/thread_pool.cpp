@@ -7,8 +7,9 @@
 
 namespace depath {
 
-// One parallel_for call. Indices are claimed under the pool mutex; the batch lives on
-// the caller's stack until every claimed index has finished.
+// One parallel_for call, or one posted task. Indices are claimed under the pool mutex; a
+// loop's batch lives on the caller's stack until every claimed index has finished, a
+// task's batch is owned by the pool and deleted by the worker that ran it.
 struct ThreadPool::Batch {
   int n = 0;
   int next = 0;      // next unclaimed index
@@ -17,6 +18,7 @@ struct ThreadPool::Batch {
   const std::function<void(int, int)>* fn = nullptr;
   std::exception_ptr error;
   std::condition_variable done;
+  std::function<void(int, int)> posted;  // a posted task's own body (fn points here)
 };
 
 ThreadPool::ThreadPool(int workers) {
@@ -69,8 +71,33 @@ void ThreadPool::worker_loop(int slot) {
     // already out of the rotation or at the back, which find() handles.
     run_one(*batch, slot);
     --batch->busy_workers;
-    if (batch->finished == batch->n && batch->busy_workers == 0) batch->done.notify_all();
+    if (batch->finished < batch->n || batch->busy_workers > 0) continue;
+    if (!batch->posted) {
+      batch->done.notify_all();
+      continue;
+    }
+    // A posted task has no caller to rethrow to; the task's captures die outside the lock.
+    lock.unlock();
+    if (batch->error) std::rethrow_exception(batch->error);  // ends the program, see post()
+    delete batch;
+    lock.lock();
   }
+}
+
+void ThreadPool::post(std::function<void()> task) {
+  if (threads_.empty()) {
+    task();
+    return;
+  }
+  auto* batch = new Batch;
+  batch->n = 1;
+  batch->posted = [task = std::move(task)](int, int) { task(); };
+  batch->fn = &batch->posted;
+  {
+    std::lock_guard lock(mutex_);
+    active_.push_back(batch);
+  }
+  wake_.notify_one();
 }
 
 void ThreadPool::parallel_for(int n, const std::function<void(int slot, int index)>& fn) {

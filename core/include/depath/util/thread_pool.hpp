@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
-// A fixed pool of worker threads that runs index-parallel loops for many callers at once.
+// A fixed pool of worker threads that runs index-parallel loops for many callers at once,
+// and detached tasks (the server's queue for blocking work is such a pool).
 //
-// Inputs: a loop size and a function of (slot, index). Outputs: none; exceptions are
-// rethrown. Guarantees: fair between concurrent callers, no deadlock with 0 workers,
-// per-slot scratch space needs no locking (see ThreadPool).
+// Inputs: a loop size and a function of (slot, index), or a task. Outputs: none; a loop's
+// exceptions are rethrown to its caller. Guarantees: fair between concurrent callers and
+// tasks, no deadlock with 0 workers, per-slot scratch space needs no locking, tasks posted
+// before destruction run before the workers exit (see ThreadPool).
 #pragma once
 
 #include <condition_variable>
@@ -40,6 +42,12 @@ class ThreadPool {
   /// slot, so per-slot scratch space needs no locking. The first exception thrown by fn
   /// is rethrown here after the batch drained.
   void parallel_for(int n, const std::function<void(int slot, int index)>& fn);
+
+  /// Runs `task` once on a worker and returns at once; with 0 workers it runs here, now.
+  /// Tasks take their turn with the loops' indices (one rotation for both). Every task
+  /// posted before the destructor starts runs before it returns. A task must not throw:
+  /// as with an exception leaving a std::thread, that ends the program.
+  void post(std::function<void()> task);
 
  private:
   struct Batch;

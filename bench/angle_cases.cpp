@@ -120,12 +120,13 @@ int main(int argc, char** argv) {
         const SolveResult r = solve(c.mesh, job);
         const double figure = test::result_metric(r, spiral ? "mean_slope_error" : "normalized_energy");
         const double turning = test::total_turning(c.mesh, r.path);
+        const double charged = test::penalty_turning(c.mesh, job.energy, r.path);
         table[f][l].figure.push_back(figure);
         table[f][l].turning.push_back(turning);
         table[f][l].seconds.push_back(r.seconds);
         if (!quiet)
-          std::printf("    lambda %-5g figure %.4f  turning %6.3f  energy %8.4f  length %7.3f  %.2f s\n", lambdas[l],
-                      figure, turning, r.energy, r.length, r.seconds);
+          std::printf("    lambda %-5g figure %.4f  turning %6.3f  charged %6.3f  energy %8.4f  length %7.3f  %.2f s\n",
+                      lambdas[l], figure, turning, charged, r.energy, r.length, r.seconds);
       }
       std::fflush(stdout);
     }

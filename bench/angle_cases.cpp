@@ -125,7 +125,7 @@ int main(int argc, char** argv) {
         table[f][l].turning.push_back(turning);
         table[f][l].seconds.push_back(r.seconds);
         if (!quiet)
-          std::printf("    lambda %-5g figure %.4f  turning %6.3f  charged %6.3f  energy %8.4f  length %7.3f  %.2f s\n",
+          std::printf("    lambda %-5g figure %.4f  turning %6.3f  charged %6.3f  energy %8.4f  length %7.3f  %.2fs\n",
                       lambdas[l], figure, turning, charged, r.energy, r.length, r.seconds);
       }
       std::fflush(stdout);

@@ -38,7 +38,9 @@ inline double result_metric(const SolveResult& r, const std::string& name) {
 /// Total turning of a path within the surface (radians): what a user sees of its bending.
 /// (The penalty of the angle energies charges the turning relative to their preferred
 /// lines instead: penalty_turning.)
-inline double total_turning(const Mesh& mesh, const SurfacePath& path) { return total_surface_turning(mesh, path); }
+inline double total_turning(const Mesh& mesh, const SurfacePath& path) {
+  return total_surface_turning(mesh, path);
+}
 
 /// Total turning as the smoothness penalty of the job's energy charges it
 /// (Energy::turning_angle).

@@ -48,8 +48,8 @@ void check_family(test::AngleFamily family, const char* figure_name, double thre
       const double figure = test::result_metric(r, figure_name);
       const double turning = test::total_turning(c.mesh, r.path);
       const double charged = test::penalty_turning(c.mesh, job.energy, r.path);
-      std::printf("seed %2d lambda %.1f: %s %.4f, turning %.3f, charged %.3f  (%s)\n", seed, lambda, figure_name, figure,
-                  turning, charged, c.description.c_str());
+      std::printf("seed %2d lambda %.1f: %s %.4f, turning %.3f, charged %.3f  (%s)\n", seed, lambda,
+                  figure_name, figure, turning, charged, c.description.c_str());
       if (lambda == 0.0) {
         EXPECT_LE(figure, threshold);
         without = r.path;

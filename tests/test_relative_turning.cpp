@@ -51,8 +51,8 @@ std::vector<Vec3> rotation_field(const Mesh& mesh) {
 }
 
 // The path along the circle of radius r about the origin (r chosen to miss the grid's
-// vertices) through its crossings with the mesh's edges, in order of angle from the positive x axis, over `turn` radians: the chords
-// of the circle between consecutive crossings (which share a face on a grid).
+// vertices) through its crossings with the mesh's edges, in order of angle from the positive x axis, over
+// `turn` radians: the chords of the circle between consecutive crossings (which share a face on a grid).
 SurfacePath circle_path(const Mesh& mesh, double r, double turn) {
   struct Crossing {
     double angle;
@@ -82,7 +82,8 @@ SurfacePath circle_path(const Mesh& mesh, double r, double turn) {
       if (angle <= turn) crossings.push_back({angle, SurfacePoint::on_edge(i, j, t)});
     }
   }
-  std::sort(crossings.begin(), crossings.end(), [](const Crossing& x, const Crossing& y) { return x.angle < y.angle; });
+  std::sort(crossings.begin(), crossings.end(),
+            [](const Crossing& x, const Crossing& y) { return x.angle < y.angle; });
   SurfacePath path;
   for (const Crossing& c : crossings) path.points.push_back(c.point);
   for (size_t k = 0; k + 1 < path.points.size(); ++k) {
@@ -117,7 +118,8 @@ double total(const Energy& energy, const SurfacePath& path) {
 TEST(RelativeTurning, UniformFieldOnAFlatGridChargesThePlainTurning) {
   const Mesh mesh = flat_grid(21);
   const auto energy = field_energy(mesh, std::vector<Vec3>(mesh.num_vertices(), Vec3(1, 0.3, 0)));
-  for (const SurfacePath& path : {circle_path(mesh, 0.73, 1.5 * kPi), zig_zag(circle_path(mesh, 0.73, 1.5 * kPi), 0.2)}) {
+  for (const SurfacePath& path :
+       {circle_path(mesh, 0.73, 1.5 * kPi), zig_zag(circle_path(mesh, 0.73, 1.5 * kPi), 0.2)}) {
     ASSERT_GT(path.points.size(), 40u);
     for (int i = 1; i + 1 < static_cast<int>(path.points.size()); ++i)
       EXPECT_NEAR(energy->turning_angle(path, i), surface_turning(mesh, path, i), 1e-12) << i;
@@ -149,8 +151,8 @@ TEST(RelativeTurning, AZigZagAcrossTheFieldIsCharged) {
   const SurfacePath zz = zig_zag(circle, 0.03);
   const double circle_plain = total_surface_turning(mesh, circle), zz_plain = total_surface_turning(mesh, zz);
   const double charged = total(*energy, zz);
-  std::printf("plain turning: circle %.3f, zig-zag %.3f; charged: circle %.2e, zig-zag %.3f\n", circle_plain, zz_plain,
-              total(*energy, circle), charged);
+  std::printf("plain turning: circle %.3f, zig-zag %.3f; charged: circle %.2e, zig-zag %.3f\n", circle_plain,
+              zz_plain, total(*energy, circle), charged);
   ASSERT_GT(zz_plain, circle_plain + 5.0);  // the zig-zag adds several radians of turning
   EXPECT_GE(charged, zz_plain - circle_plain - 0.3);
   EXPECT_LE(charged, zz_plain + circle_plain);
@@ -165,7 +167,8 @@ TEST(RelativeTurning, AZigZagAcrossTheFieldIsCharged) {
 TEST(RelativeTurning, GeodesicEnergyKeepsThePlainTurning) {
   const Mesh flat = flat_grid(21);
   const auto energy = geodesic_energy(flat);
-  for (const SurfacePath& path : {circle_path(flat, 0.73, 1.5 * kPi), zig_zag(circle_path(flat, 0.73, 1.5 * kPi), 0.2)})
+  for (const SurfacePath& path :
+       {circle_path(flat, 0.73, 1.5 * kPi), zig_zag(circle_path(flat, 0.73, 1.5 * kPi), 0.2)})
     for (int i = 1; i + 1 < static_cast<int>(path.points.size()); ++i)
       EXPECT_EQ(energy->turning_angle(path, i), surface_turning(flat, path, i)) << i;
 
@@ -178,7 +181,8 @@ TEST(RelativeTurning, GeodesicEnergyKeepsThePlainTurning) {
   apex.points = {SurfacePoint::at_vertex(1), SurfacePoint::at_vertex(0), SurfacePoint::at_vertex(3)};
   apex.segment_faces = {0, 1};
   EXPECT_NEAR(geodesic_energy(pyramid)->turning_angle(apex, 1), kPi / 3, 1e-12);
-  EXPECT_NEAR(field_energy(pyramid, std::vector<Vec3>(5, Vec3(1, 0, 0)))->turning_angle(apex, 1), kPi / 3, 1e-12);
+  EXPECT_NEAR(field_energy(pyramid, std::vector<Vec3>(5, Vec3(1, 0, 0)))->turning_angle(apex, 1), kPi / 3,
+              1e-12);
 }
 
 }  // namespace

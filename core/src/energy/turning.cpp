@@ -17,9 +17,11 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Acute angle (in [0, pi/2]) between the direction d and the line along u.
-double line_angle(const Vec2d& d, const Vec2d& u) {
-  return std::atan2(std::abs(d.x * u.y - d.y * u.x), std::abs(d.x * u.x + d.y * u.y));
+// sin^2 of the acute angle between the direction d and the unit line u: increasing with that
+// angle on [0, pi/2], so it ranks lines by nearness without an atan2.
+double off_line(const Vec2d& d, const Vec2d& u) {
+  const double cross = d.x * u.y - d.y * u.x;
+  return cross * cross / (d.x * d.x + d.y * d.y);
 }
 
 // Signed rotation from the line along u to the line along v: lines have no sense, so it is
@@ -70,16 +72,17 @@ double Energy::turning_angle(const SurfacePath& path, int i) const {
   // two branches), the matching that rotates them least, so that a zig-zag from one branch
   // to the other is charged; then, of the matched pairs (or all pairs, where a side has one
   // line), the pair nearest the path.
+  // (Both ranked by sin^2 of the angles, the angles' own order for one angle and a close
+  // stand-in for sums, without atan2: the refinement evaluates this at every move.)
   const bool two_by_two = na == 2 && nb == 2;
   const bool crossed =
-      two_by_two && std::abs(line_rotation(la[0], lb[1])) + std::abs(line_rotation(la[1], lb[0])) <
-                        std::abs(line_rotation(la[0], lb[0])) + std::abs(line_rotation(la[1], lb[1]));
+      two_by_two && off_line(la[0], lb[1]) + off_line(la[1], lb[0]) < off_line(la[0], lb[0]) + off_line(la[1], lb[1]);
   int best_a = 0, best_b = 0;
   double best = INFINITY;
   for (int ka = 0; ka < na; ++ka) {
     for (int kb = 0; kb < nb; ++kb) {
       if (two_by_two && (kb == ka) == crossed) continue;
-      const double off = line_angle(da, la[ka]) + line_angle(db, lb[kb]);
+      const double off = off_line(da, la[ka]) + off_line(db, lb[kb]);
       if (off < best) best = off, best_a = ka, best_b = kb;
     }
   }

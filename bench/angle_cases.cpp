@@ -54,7 +54,7 @@ void diagnose_case(const test::AngleCase& c, int population, int generations, in
     job.refine = k == 2;
     const SolveResult r = solve(c.mesh, job);
     std::printf("    %-16s turning in surface %7.3f  3D %7.3f  points %4zu  normalized %.4f\n", names[k],
-                test::total_turning(c.mesh, job.energy, r.path), turning_3d(c.mesh, r.path), r.path.points.size(),
+                test::total_turning(c.mesh, r.path), turning_3d(c.mesh, r.path), r.path.points.size(),
                 test::result_metric(r, "normalized_energy"));
   }
 }
@@ -119,13 +119,14 @@ int main(int argc, char** argv) {
         job.refine = refine;
         const SolveResult r = solve(c.mesh, job);
         const double figure = test::result_metric(r, spiral ? "mean_slope_error" : "normalized_energy");
-        const double turning = test::total_turning(c.mesh, job.energy, r.path);
+        const double turning = test::total_turning(c.mesh, r.path);
+        const double charged = test::penalty_turning(c.mesh, job.energy, r.path);
         table[f][l].figure.push_back(figure);
         table[f][l].turning.push_back(turning);
         table[f][l].seconds.push_back(r.seconds);
         if (!quiet)
-          std::printf("    lambda %-5g figure %.4f  turning %6.3f  energy %8.4f  length %7.3f  %.2f s\n", lambdas[l],
-                      figure, turning, r.energy, r.length, r.seconds);
+          std::printf("    lambda %-5g figure %.4f  turning %6.3f  charged %6.3f  energy %8.4f  length %7.3f  %.2fs\n",
+                      lambdas[l], figure, turning, charged, r.energy, r.length, r.seconds);
       }
       std::fflush(stdout);
     }

@@ -101,7 +101,7 @@ void fig4() {
       row("Fig. 4",
           "cone, k " + fmt("%.1f", k) + ", lambda " + fmt("%.1f", lambda) + ", " + c->description.substr(7),
           "slope error " + fmt("%.4f", test::result_metric(r, "mean_slope_error")) + ", turn " +
-              fmt("%.2f", test::total_turning(c->mesh, c->energy, r.path)),
+              fmt("%.2f", test::total_turning(c->mesh, r.path)),
           "(picture only)", r.seconds);
     }
   }

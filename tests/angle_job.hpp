@@ -4,6 +4,7 @@
 #pragma once
 
 #include "depath/energy/energy.hpp"
+#include "depath/energy/surface_turning.hpp"
 #include "depath/solve/solve.hpp"
 #include "job_builders.hpp"
 #include "random_cases.hpp"
@@ -34,8 +35,16 @@ inline double result_metric(const SolveResult& r, const std::string& name) {
   return std::nan("");
 }
 
-/// Total turning of a path (radians) as the smoothness penalty measures it.
-inline double total_turning(const Mesh& mesh, EnergySpec spec, const SurfacePath& path) {
+/// Total turning of a path within the surface (radians): what a user sees of its bending.
+/// (The penalty of the angle energies charges the turning relative to their preferred
+/// lines instead: penalty_turning.)
+inline double total_turning(const Mesh& mesh, const SurfacePath& path) {
+  return total_surface_turning(mesh, path);
+}
+
+/// Total turning as the smoothness penalty of the job's energy charges it
+/// (Energy::turning_angle).
+inline double penalty_turning(const Mesh& mesh, EnergySpec spec, const SurfacePath& path) {
   spec.smoothness = 1.0;
   const auto energy = make_energy(mesh, spec);
   double sum = 0.0;

@@ -28,7 +28,8 @@ struct Metric {
 
 /// Energy of a surface path: a sum of per-segment terms plus an optional smoothness
 /// penalty (lambda * sum of turning angles between consecutive segments, radians,
-/// measured within the surface: see turning_angle).
+/// measured within the surface, relative to the preferred lines where the energy has
+/// them: see turning_angle).
 ///
 /// Implementations are immutable after construction and safe to call from many threads.
 class Energy {
@@ -49,7 +50,7 @@ class Energy {
   /// 3D vectors in the face's plane, each standing for a line (both senses), written to
   /// `lines`; returns how many (0 where no direction is preferred). A path along them costs
   /// nothing. Used to trace guide curves (field lines, constant-slope lines) that seed the
-  /// search. Default: none (geodesic).
+  /// search, and by turning_angle (the smoothness penalty). Default: none (geodesic).
   virtual int preferred_lines(int face, const Vec3& point, Vec3 lines[2]) const { return 0; }
 
   /// Per-vertex density that the `fmm` baseline decodes (the problem's own density).
@@ -65,20 +66,23 @@ class Energy {
   /// The smoothness penalty weight lambda (>= 0).
   double smoothness() const { return smoothness_; }
 
-  /// Turning angle (radians, in [0, pi]) at point `i` of the path (0 at the end points),
-  /// measured within the surface (geodesic turning), so that a path that runs straight on
-  /// the surface (a geodesic, or a contour line's own bending in 3D) costs nothing for
-  /// the bending of the surface under it:
-  ///  - at an edge point, the angle between the incoming segment and the outgoing one
-  ///    after unfolding the outgoing segment's face about the edge into the incoming
-  ///    segment's plane (exact: a path straight in the unfolding turns by 0);
-  ///  - at a vertex, pi - min(theta_1, theta_2), theta_1 and theta_2 the surface angles at
-  ///    the vertex on the two sides of the path (sums of corner angles); 0 where both are
-  ///    at least pi, as for every locally shortest path; at a boundary vertex |pi - theta|
-  ///    for the one side there is;
-  ///  - where a point's segment faces do not hold it (not a valid surface path) or are
-  ///    degenerate, the 3D angle between the segments.
-  /// On a flat mesh all three are the plain angle between consecutive segments.
+  /// The turning the smoothness penalty charges at point `i` of the path (radians, in
+  /// [0, pi]; 0 at the end points).
+  ///  - Energies with preferred lines (vector_field, constant_slope), at an edge point: the
+  ///    turning relative to the preferred line the path follows, |wrap(dphi - dpsi)|, both
+  ///    measured in the unfolding of the outgoing segment's face about the edge into the
+  ///    incoming one's plane (as surface_turning does): dphi the path's signed turning, dpsi
+  ///    the signed rotation (modulo pi: lines have no sense) from the preferred line at the
+  ///    incoming segment's midpoint to the one at the outgoing segment's midpoint. With two
+  ///    lines per face (constant slope's two branches) the lines are matched across the edge
+  ///    so they rotate least, and the matched pair nearest the path is used. Summed over a
+  ///    path this is the total variation of the path's angle to the line it follows: a
+  ///    path along a field line or a constant-slope spiral costs (about) nothing however it
+  ///    curves, a zig-zag across the lines is charged as before.
+  ///  - Everywhere else (energies without preferred lines such as geodesic, vertex points,
+  ///    faces that do not hold the point or are degenerate, a zero field at a midpoint): the
+  ///    plain turning within the surface, surface_turning(mesh, path, i).
+  /// On a flat mesh with a uniform field both are the plain angle between the segments.
   double turning_angle(const SurfacePath& path, int i) const;
 
   const Mesh& mesh() const { return mesh_; }

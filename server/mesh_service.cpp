@@ -118,7 +118,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
       memory_.reset();
       release_upload_slot();
       grpc_handoff(this);
-      Finish(status);
+      finish_from_our_thread([&] { Finish(status); });
     });
   }
 

@@ -38,7 +38,7 @@ class FinishedElsewhere final : public grpc::ServerUnaryReactor {
  public:
   void finish(const grpc::Status& status) {
     grpc_handoff(this);
-    Finish(status);
+    finish_from_our_thread([&] { Finish(status); });
   }
   void OnCancel() override { grpc_reaction(this); }  // the task still finishes the call
   void OnDone() override {

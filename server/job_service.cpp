@@ -53,10 +53,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
     else pump_locked();
   }
 
-  void fail(const grpc::Status& status) {
-    grpc_handoff(this);
-    Finish(status);
-  }
+  void fail(const grpc::Status& status) { finish_from_our_thread(*this, status); }
 
   void OnWriteDone(bool ok) override {
     grpc_reaction(this);

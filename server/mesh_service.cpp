@@ -117,8 +117,7 @@ class UploadReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest
       std::string().swap(bytes_);
       memory_.reset();
       release_upload_slot();
-      grpc_handoff(this);
-      finish_from_our_thread([&] { Finish(status); });
+      finish_from_our_thread(*this, status);
     });
   }
 

@@ -36,10 +36,7 @@ grpc::Status run_unary_body(Fn& fn, const std::string& client) {
 /// reply on gRPC's thread right after OnDone, comes after the reply was written.
 class FinishedElsewhere final : public grpc::ServerUnaryReactor {
  public:
-  void finish(const grpc::Status& status) {
-    grpc_handoff(this);
-    finish_from_our_thread([&] { Finish(status); });
-  }
+  void finish(const grpc::Status& status) { finish_from_our_thread(*this, status); }
   void OnCancel() override { grpc_reaction(this); }  // the task still finishes the call
   void OnDone() override {
     grpc_reaction(this);

@@ -8,8 +8,7 @@
 namespace depath {
 
 // One parallel_for call, or one posted task. Indices are claimed under the pool mutex; a
-// loop's batch lives on the caller's stack until every claimed index has finished, a
-// task's batch is owned by the pool and deleted by the worker that ran it.
+// loop's batch lives on the caller's stack until every claimed index has finished.
 struct ThreadPool::Batch {
   int n = 0;
   int next = 0;      // next unclaimed index
@@ -18,7 +17,18 @@ struct ThreadPool::Batch {
   const std::function<void(int, int)>* fn = nullptr;
   std::exception_ptr error;
   std::condition_variable done;
-  std::function<void(int, int)> posted;  // a posted task's own body (fn points here)
+  bool is_task = false;  // a Task: nobody waits on `done`
+};
+
+// A posted task: a batch of one index that owns its body, owned by the pool and deleted by
+// the worker that ran it.
+struct ThreadPool::Task final : Batch {
+  explicit Task(std::function<void()> task) : body([task = std::move(task)](int, int) { task(); }) {
+    n = 1;
+    fn = &body;
+    is_task = true;
+  }
+  std::function<void(int, int)> body;
 };
 
 ThreadPool::ThreadPool(int workers) {
@@ -72,14 +82,14 @@ void ThreadPool::worker_loop(int slot) {
     run_one(*batch, slot);
     --batch->busy_workers;
     if (batch->finished < batch->n || batch->busy_workers > 0) continue;
-    if (!batch->posted) {
+    if (!batch->is_task) {
       batch->done.notify_all();
       continue;
     }
     // A posted task has no caller to rethrow to; the task's captures die outside the lock.
     lock.unlock();
     if (batch->error) std::rethrow_exception(batch->error);  // ends the program, see post()
-    delete batch;
+    delete static_cast<Task*>(batch);
     lock.lock();
   }
 }
@@ -89,10 +99,7 @@ void ThreadPool::post(std::function<void()> task) {
     task();
     return;
   }
-  auto* batch = new Batch;
-  batch->n = 1;
-  batch->posted = [task = std::move(task)](int, int) { task(); };
-  batch->fn = &batch->posted;
+  auto* batch = new Task(std::move(task));
   {
     std::lock_guard lock(mutex_);
     active_.push_back(batch);

@@ -51,6 +51,7 @@ class ThreadPool {
 
  private:
   struct Batch;
+  struct Task;
   void worker_loop(int slot);
   bool run_one(Batch& batch, int slot);
 

@@ -233,6 +233,7 @@ void Server::add_state_collector(Impl& s) {
     r.set("depath_mesh_cache_hits_total", {}, static_cast<double>(c.hits));
     r.set("depath_mesh_cache_misses_total", {}, static_cast<double>(c.misses));
     r.set("depath_mesh_cache_evictions_total", {}, static_cast<double>(c.evictions));
+    r.set("depath_stencil_builds_total", {}, static_cast<double>(c.stencil_builds));
   });
 }
 

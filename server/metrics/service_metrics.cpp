@@ -30,6 +30,8 @@ constexpr Family kFamilies[] = {
     {"depath_mesh_cache_hits_total", Type::counter, "Mesh lookups answered from the cache"},
     {"depath_mesh_cache_misses_total", Type::counter, "Mesh lookups that had to reload from the store"},
     {"depath_mesh_cache_evictions_total", Type::counter, "Meshes evicted to stay within the budget"},
+    {"depath_stencil_builds_total", Type::counter,
+     "Fast-marching stencil tables built for jobs (once per cached mesh; more means the cache drops them)"},
     {"depath_uploads_total", Type::counter, "Mesh uploads received in full, by transport"},
     {"depath_upload_bytes_total", Type::counter, "Bytes of the mesh uploads received in full, by transport"},
     {"depath_rpcs_total", Type::counter, "gRPC calls finished, by method and status code"},

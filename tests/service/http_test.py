@@ -328,7 +328,7 @@ def test_main(d):
                    "depath_decode_seconds", "depath_mesh_cache_bytes", "depath_mesh_cache_hits",
                    "depath_mesh_cache_misses", "depath_mesh_cache_evictions", "depath_uploads",
                    "depath_upload_bytes", "depath_rpcs", "depath_watchers", "depath_auth_failures",
-                   "depath_http_requests"]:
+                   "depath_http_requests", "depath_stencil_builds"]:
         check(needed in names, "metric family %s missing (have %s)" % (needed, sorted(names)))
     long_info = get_json(d, "/v1/jobs/" + long_job)
     long_evals = long_info["result"]["evaluations"] if long_info["result"] else long_info["progress"]["evaluations"]
@@ -348,6 +348,8 @@ def test_main(d):
           "the gRPC GetResult of depath result is counted")
     check(sample(after, "depath_http_requests_total", route="GET /v1/jobs", status="401") == 2, "401s by route")
     check(sample(after, "depath_mesh_cache_hits_total") > 0, "cache hits")
+    # both jobs ran on the one cached kitten: its stencils were built by the first only
+    check(sample(after, "depath_stencil_builds_total") == 1, "stencil builds %g" % sample(after, "depath_stencil_builds_total"))
     deadline = time.monotonic() + 10 * SCALE
     while sample(metrics(d)[1], "depath_watchers", transport="http") != 0:
         check(time.monotonic() < deadline, "the HTTP watcher gauge does not return to 0")

@@ -9,13 +9,10 @@
 #include "energy/unfolding.hpp"
 
 #include <cmath>
-#include <numbers>
 
 namespace depath {
 
 namespace {
-
-constexpr double kPi = std::numbers::pi;
 
 // sin^2 of the acute angle between the direction d and the unit line u: increasing with that
 // angle on [0, pi/2], so it ranks lines by nearness without an atan2.
@@ -24,20 +21,16 @@ double off_line(const Vec2d& d, const Vec2d& u) {
   return cross * cross / (d.x * d.x + d.y * d.y);
 }
 
-// Signed rotation from the line along u to the line along v: lines have no sense, so it is
-// taken modulo pi, in (-pi/2, pi/2].
-double line_rotation(const Vec2d& u, const Vec2d& v) {
-  double r = signed_angle(u, v);
-  if (r > kPi / 2) r -= kPi;
-  if (r <= -kPi / 2) r += kPi;
-  return r;
-}
+// The rotation taking direction u to direction v, as a complex number: its argument is
+// signed_angle(u, v). Composing rotations by complex products keeps the whole turning to
+// one atan2 (the refinement evaluates it at every move).
+Vec2d rotation(const Vec2d& u, const Vec2d& v) { return {u.x * v.x + u.y * v.y, u.x * v.y - u.y * v.x}; }
 
-// x modulo 2 pi, in [-pi, pi].
-double wrap(double x) {
-  while (x > kPi) x -= 2 * kPi;
-  while (x < -kPi) x += 2 * kPi;
-  return x;
+// The rotation from the line along u to the line along v: lines have no sense, so it is
+// taken modulo pi, with its argument in (-pi/2, pi/2].
+Vec2d line_rotation(const Vec2d& u, const Vec2d& v) {
+  const Vec2d r = rotation(u, v);
+  return r.x < 0.0 || (r.x == 0.0 && r.y < 0.0) ? Vec2d{-r.x, -r.y} : r;
 }
 
 }  // namespace
@@ -62,7 +55,7 @@ double Energy::turning_angle(const SurfacePath& path, int i) const {
   if (nb == 0) return surface_turning(mesh_, path, i);
   const Vec3 a = p - prev, b = next - p;
   const EdgeUnfolding unfold(mesh_, q, fa, fb);
-  if (!unfold.valid() || a.norm() == 0.0 || b.norm() == 0.0) return surface_turning(mesh_, path, i);
+  if (!unfold.valid() || a.squaredNorm() == 0.0 || b.squaredNorm() == 0.0) return surface_turning(mesh_, path, i);
 
   const Vec2d da = unfold.incoming(a), db = unfold.outgoing(b);
   Vec2d la[2], lb[2];
@@ -86,9 +79,11 @@ double Energy::turning_angle(const SurfacePath& path, int i) const {
       if (off < best) best = off, best_a = ka, best_b = kb;
     }
   }
-  const double path_turn = signed_angle(da, db);
-  const double line_turn = line_rotation(la[best_a], lb[best_b]);
-  return std::abs(wrap(path_turn - line_turn));
+  // |path's turn - lines' turn|, modulo 2 pi: the argument of one rotation times the other's
+  // inverse.
+  const Vec2d path_turn = rotation(da, db), line_turn = line_rotation(la[best_a], lb[best_b]);
+  return std::abs(std::atan2(path_turn.y * line_turn.x - path_turn.x * line_turn.y,
+                             path_turn.x * line_turn.x + path_turn.y * line_turn.y));
 }
 
 }  // namespace depath

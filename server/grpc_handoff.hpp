@@ -53,9 +53,9 @@ inline void grpc_reaction([[maybe_unused]] const void* reactor) {
 #endif
 }
 
-/// Finishes `reactor`'s call from a thread of ours (a task, the hub's dispatcher), not from
-/// one of gRPC's reactions: hands the reactor over, then runs Finish with TSan ignoring this
-/// thread's plain reads and writes. Finish goes on using the call after the hand-off: it
+/// Finishes `reactor`'s call from a thread of ours (a task, the hub's dispatcher) or from a
+/// reaction (where the scope is harmless: Finish's own accesses are gRPC's): hands the
+/// reactor over, then runs Finish with TSan ignoring this thread's plain reads and writes. Finish goes on using the call after the hand-off: it
 /// serialises the reply and marks the call's context, and only gRPC orders that before its
 /// clean-up on another thread (the reply, context and reactor freed after OnDone). A
 /// suppression naming Finish matches only a stack TSan still has, and under load it loses

@@ -131,11 +131,11 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::JobEvent> {
     StartWrite(in_flight_.get());
   }
 
+  // Runs in gRPC's reactions and on the hub's dispatcher (notify) alike.
   void finish_locked(const grpc::Status& status) {
     if (finished_) return;
     finished_ = true;
-    grpc_handoff(this);
-    Finish(status);
+    finish_from_our_thread(*this, status);
   }
 
   ServiceContext& ctx_;

@@ -20,6 +20,7 @@
 //   --threads      evaluation threads of each job (default 1: one core per path)
 //   --generations, --population   DE settings (default: the job defaults, 100 and 20)
 //   --pairs        at most N pairs per mesh (default all 12)
+//   --each         also print every pair: its error and cached wall time per method
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -91,6 +92,7 @@ void print_summary(const std::string& method, const std::vector<Run>& runs) {
 int main(int argc, char** argv) {
   std::string data = DEPATH_SHARED_DATA, meshes_arg, methods_arg = "descent,de";
   int threads = 1, generations = 0, population = 0, max_pairs = 1 << 30;
+  bool each = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     const bool has_value = i + 1 < argc;
@@ -108,10 +110,12 @@ int main(int argc, char** argv) {
       population = std::atoi(argv[++i]);
     else if (arg == "--pairs" && has_value)
       max_pairs = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--each")
+      each = true;
     else {
       std::fprintf(stderr,
                    "usage: bench_geodesic_table [--meshes LIST|all] [--methods LIST] [--threads T] "
-                   "[--data DIR] [--generations G] [--population P] [--pairs N]\n");
+                   "[--data DIR] [--generations G] [--population P] [--pairs N] [--each]\n");
       return 2;
     }
   }
@@ -176,6 +180,10 @@ int main(int argc, char** argv) {
                                      name);
           runs[method].push_back({name, pair.source, pair.target, fresh.length / pair.length - 1.0, uncached,
                                   cached, uncached_cpu, cached_cpu});
+          if (each) {
+            std::printf("  %-8s %-16s %6d -> %-6d %+8.4f%%  %8.1f ms cached\n", method.c_str(), name.c_str(),
+                        pair.source, pair.target, 100.0 * runs[method].back().error, 1e3 * cached);
+          }
         }
       }
     }

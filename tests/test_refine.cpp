@@ -15,6 +15,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <random>
 #include <tuple>
 #include <vector>
 
@@ -199,37 +200,86 @@ TEST(Refine, UnitCubeCornerToOppositeCorner) {
   EXPECT_NEAR(energy->evaluate(refined), std::sqrt(5.0), 1e-9);
 }
 
+// Open prism approximating a cylinder (axis z, base at z = 0): unrolled, it is a flat
+// strip, so the shortest path between two vertices is the straight line of the unrolled
+// strip (a helix). Vertex (ring r, side j) is r * sides + j.
+struct Prism {
+  int sides, rings;
+  double radius, height;
+  Mesh mesh;
+  Prism(int sides_, int rings_, double radius_, double height_)
+      : sides(sides_), rings(rings_), radius(radius_), height(height_), mesh(build(sides_, rings_, radius_, height_)) {}
+  static Mesh build(int sides, int rings, double radius, double height) {
+    std::vector<Vec3> positions;
+    for (int r = 0; r < rings; ++r) {
+      for (int j = 0; j < sides; ++j) {
+        const double a = 2 * std::numbers::pi * j / sides;
+        positions.emplace_back(radius * std::cos(a), radius * std::sin(a), height * r / (rings - 1));
+      }
+    }
+    Faces faces;
+    for (int r = 0; r + 1 < rings; ++r) {
+      for (int j = 0; j < sides; ++j) {
+        const int a = r * sides + j, b = r * sides + (j + 1) % sides;
+        faces.push_back({a, b, b + sides});
+        faces.push_back({a, b + sides, a + sides});
+      }
+    }
+    return Mesh(positions, faces);
+  }
+  // Length of the unrolled straight line between two vertices, the short way around.
+  double helix(int u, int v) const {
+    const int turn = std::abs(u % sides - v % sides);
+    const int sectors = std::min(turn, sides - turn);
+    const double chord = 2 * radius * std::sin(std::numbers::pi / sides);
+    return std::hypot(height * (u / sides - v / sides) / (rings - 1), sectors * chord);
+  }
+};
+
 TEST(Refine, HelixOnACylinder) {
-  // Open prism approximating a cylinder: unrolled, it is a flat strip, so the shortest
-  // path between two vertices is the straight line of the unrolled strip (a helix).
-  const int sides = 24, rings = 9;
-  const double radius = 1.0, height = 3.0;
-  std::vector<Vec3> positions;
-  for (int r = 0; r < rings; ++r) {
-    for (int j = 0; j < sides; ++j) {
-      const double a = 2 * std::numbers::pi * j / sides;
-      positions.emplace_back(radius * std::cos(a), radius * std::sin(a), height * r / (rings - 1));
-    }
-  }
-  Faces faces;
-  for (int r = 0; r + 1 < rings; ++r) {
-    for (int j = 0; j < sides; ++j) {
-      const int a = r * sides + j, b = r * sides + (j + 1) % sides;
-      faces.push_back({a, b, b + sides});
-      faces.push_back({a, b + sides, a + sides});
-    }
-  }
-  const Mesh mesh(positions, faces);
+  const Prism prism(24, 9, 1.0, 3.0);
   const int k = 7;  // sectors travelled around the axis
   std::vector<int> route;  // around the bottom rim, then straight up
   for (int j = 0; j <= k; ++j) route.push_back(j);
-  for (int r = 1; r < rings; ++r) route.push_back(r * sides + k);
-  const SurfacePath input = vertex_path(mesh, route);
-  const auto energy = make_energy(mesh, EnergySpec{});
+  for (int r = 1; r < prism.rings; ++r) route.push_back(r * prism.sides + k);
+  const SurfacePath input = vertex_path(prism.mesh, route);
+  const auto energy = make_energy(prism.mesh, EnergySpec{});
   const SurfacePath refined = refine_path(*energy, input);
-  expect_valid(mesh, input, refined);
-  const double chord = 2 * radius * std::sin(std::numbers::pi / sides);
-  EXPECT_NEAR(energy->evaluate(refined), std::hypot(height, k * chord), 1e-9);
+  expect_valid(prism.mesh, input, refined);
+  EXPECT_NEAR(energy->evaluate(refined), prism.helix(0, (prism.rings - 1) * prism.sides + k), 1e-9);
+}
+
+TEST(Refine, HelicesBetweenRandomVerticesOfRandomPrisms) {
+  // Seeded random prisms and vertex pairs, at most a third of a turn apart (so the short
+  // way around is the only local optimum the fmm path can start near): the refined fmm
+  // path is the unrolled straight line, to round-off.
+  std::mt19937 rng(20261202);
+  int checked = 0;
+  for (int instance = 0; instance < 8; ++instance) {
+    const int sides = std::uniform_int_distribution<int>(9, 40)(rng);
+    const int rings = std::uniform_int_distribution<int>(2, 15)(rng);
+    const double radius = std::uniform_real_distribution<double>(0.3, 3.0)(rng);
+    const double height = std::uniform_real_distribution<double>(0.2, 6.0)(rng);
+    const Prism prism(sides, rings, radius, height);
+    const FastMarchingStencils stencils(prism.mesh);
+    PathDecoder decoder(stencils);
+    const auto energy = make_energy(prism.mesh, EnergySpec{});
+    std::uniform_int_distribution<int> ring(0, rings - 1), side(0, sides - 1), turn(-sides / 3, sides / 3);
+    for (int pair = 0; pair < 6; ++pair) {
+      const int s = ring(rng) * sides + side(rng);
+      const int t = ring(rng) * sides + ((s % sides) + turn(rng) + sides) % sides;
+      if (s == t) continue;
+      SCOPED_TRACE(std::to_string(sides) + " sides, " + std::to_string(rings) + " rings: " + std::to_string(s) +
+                   " -> " + std::to_string(t));
+      SurfacePath fmm;
+      ASSERT_TRUE(decoder.decode(std::vector<double>(prism.mesh.num_vertices(), 1.0), s, t, fmm));
+      const SurfacePath refined = refine_path(*energy, fmm);
+      expect_valid(prism.mesh, fmm, refined);
+      EXPECT_NEAR(path_length(prism.mesh, refined), prism.helix(s, t), 1e-9 * prism.helix(s, t));
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 40);
 }
 
 TEST(Refine, ReroutesAroundAConvexApex) {
@@ -379,6 +429,79 @@ struct Terrain {
     return path;
   }
 };
+
+// The path length as an energy that does not say it is one (length_factor 0): refinement
+// searches for the optimum numerically, as it does for every other energy.
+class UndeclaredLength final : public Energy {
+ public:
+  explicit UndeclaredLength(const Mesh& mesh) : Energy(mesh, 0.0) {}
+  std::string_view name() const override { return "undeclared_length"; }
+  double segment_energy(const SurfacePoint& a, const SurfacePoint& b, int) const override {
+    return (b.position(mesh_) - a.position(mesh_)).norm();
+  }
+};
+
+TEST(Refine, LengthFactorIsTheUniformDensityWithoutSmoothness) {
+  const Terrain terrain;
+  const Mesh& mesh = terrain.mesh;
+  EXPECT_EQ(make_energy(mesh, EnergySpec{})->length_factor(), 1.0);
+  EnergySpec scaled;
+  scaled.density.assign(mesh.num_vertices(), 2.5);
+  EXPECT_EQ(make_energy(mesh, scaled)->length_factor(), 2.5);
+  EnergySpec smooth;
+  smooth.smoothness = 0.1;
+  EXPECT_EQ(make_energy(mesh, smooth)->length_factor(), 0.0);
+  EnergySpec weighted = scaled;
+  weighted.density[7] = 3.0;
+  EXPECT_EQ(make_energy(mesh, weighted)->length_factor(), 0.0);
+  EnergySpec field;
+  field.kind = EnergyKind::vector_field;
+  field.field_from_height = true;
+  EXPECT_EQ(make_energy(mesh, field)->length_factor(), 0.0);
+  EXPECT_EQ(UndeclaredLength(mesh).length_factor(), 0.0);
+}
+
+TEST(Refine, StraighteningMatchesTheNumericDescentOnRandomPairs) {
+  // Local moves only (no hops), from the fmm paths of seeded random pairs on a peaks
+  // terrain: the exact straightening of a length energy ends where the numeric descent of
+  // the same length does, never longer.
+  const Terrain terrain;
+  const Mesh& mesh = terrain.mesh;
+  const auto exact = make_energy(mesh, EnergySpec{});
+  EnergySpec scaled;
+  scaled.density.assign(mesh.num_vertices(), 2.5);
+  const auto exact_scaled = make_energy(mesh, scaled);
+  const UndeclaredLength numeric(mesh);
+  RefineOptions local;
+  local.max_hops = 0;
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> vertex(0, mesh.num_vertices() - 1);
+  int same = 0, pairs = 0;
+  for (int pair = 0; pair < 24; ++pair) {
+    const int s = vertex(rng), t = vertex(rng);
+    if (s == t) continue;
+    SCOPED_TRACE(std::to_string(s) + " -> " + std::to_string(t));
+    const SurfacePath fmm = terrain.fmm_path(s, t);
+    ASSERT_FALSE(fmm.empty());
+    RefineReport straight_report, numeric_report;
+    const SurfacePath straight = refine_path(*exact, fmm, local, {}, &straight_report);
+    const SurfacePath searched = refine_path(numeric, fmm, local, {}, &numeric_report);
+    expect_valid(mesh, fmm, straight);
+    const double a = path_length(mesh, straight), b = path_length(mesh, searched);
+    EXPECT_LE(a, b * (1 + 1e-12));
+    same += a >= b * (1 - 1e-9);
+    ++pairs;
+    // A uniform density scales the energy, not the path.
+    const SurfacePath scaled_path = refine_path(*exact_scaled, fmm, local);
+    ASSERT_EQ(scaled_path.points.size(), straight.points.size());
+    EXPECT_NEAR(exact_scaled->evaluate(scaled_path), 2.5 * a, 1e-12 * a);
+    std::printf("  %4d -> %4d: straightened %.12f (%lld evaluations), numeric %.12f (%lld)\n", s, t, a,
+                static_cast<long long>(straight_report.evaluations), b,
+                static_cast<long long>(numeric_report.evaluations));
+  }
+  std::printf("  same optimum on %d of %d pairs\n", same, pairs);
+  EXPECT_EQ(same, pairs);
+}
 
 TEST(Refine, NeverRaisesAnyEnergyAndKeepsThePathValid) {
   const Terrain terrain;

@@ -113,8 +113,7 @@ class Tracer {
       came_from_ = -1;
       cur = cur.is_vertex() ? step_from_vertex(cur.v0) : step_from_edge(cur, came_from);
     }
-    std::reverse(out_.points.begin(), out_.points.end());
-    std::reverse(out_.segment_faces.begin(), out_.segment_faces.end());
+    out_.reverse();
   }
 
  private:

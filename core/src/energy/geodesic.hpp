@@ -18,9 +18,12 @@ class GeodesicEnergy final : public Energy {
   double segment_energy(const SurfacePoint& a, const SurfacePoint& b, int face) const override;
   std::vector<double> baseline_density() const override { return density_; }
   const std::vector<double>& density() const { return density_; }
+  /// The density when it is the same everywhere and there is no smoothness, else 0.
+  double length_factor() const override { return length_factor_; }
 
  private:
   std::vector<double> density_;
+  double length_factor_ = 0.0;
 };
 
 }  // namespace depath

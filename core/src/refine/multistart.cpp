@@ -31,16 +31,29 @@ SurfacePath refine_best_of(const Energy& energy, std::span<const SurfacePath> st
   rep = RefineReport{};
   if (starts.empty()) return {};
 
-  RefineOptions hopping = options;
-  hopping.on_sweep = {};
-  RefineOptions local = hopping;
-  local.max_hops = 0;
   struct Optimum {
     SurfacePath path;
     RefineReport report;
   };
   std::vector<Optimum> optima;
-  int64_t evaluations = 0;
+  int64_t evaluations = 0;  // of the refinements finished
+  // Progress over all the refinements: sweeps counted on from one to the next, and the
+  // lowest energy so far with its path.
+  int sweeps = 0;
+  double lowest_so_far = INFINITY;
+  SurfacePath lowest_path;
+  RefineOptions hopping = options;
+  if (options.on_sweep) {
+    hopping.on_sweep = [&](const RefineSweep& sweep) {
+      if (sweep.energy < lowest_so_far) {
+        lowest_so_far = sweep.energy;
+        lowest_path = *sweep.path;
+      }
+      options.on_sweep(RefineSweep{++sweeps, lowest_so_far, evaluations + sweep.evaluations, &lowest_path});
+    };
+  }
+  RefineOptions local = hopping;
+  local.max_hops = 0;
   for (const SurfacePath& start : starts) {
     Optimum o;
     o.path = refine_path(energy, start, local, cancelled, &o.report);

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "refine/points.hpp"
 
+#include "refine/straighten.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -300,6 +302,19 @@ double golden_pass(Evaluator& eval, SurfacePath& path, const std::vector<int>& p
 
 double optimize_edge_points(Evaluator& eval, SurfacePath& path, double energy, int max_newton_iterations,
                             const std::function<bool()>& cancelled) {
+  if (eval.energy().length_factor() > 0.0) {
+    // A length: the optimum is known exactly (and Newton's finite differences would cost
+    // some twenty segment evaluations per point per iteration to approach it).
+    const SurfacePath before = path;
+    const int left_alone = straighten_runs(eval.mesh(), path);
+    const double straightened = eval.total(path);
+    if (straightened <= energy) {
+      energy = straightened;
+    } else {
+      path = before;  // already straight up to round-off
+    }
+    if (left_alone == 0) return energy;
+  }
   NewtonChain chain(eval, path);
   if (chain.points().empty()) return energy;
   bool stalled = false;

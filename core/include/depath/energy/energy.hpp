@@ -57,6 +57,12 @@ class Energy {
   /// Default: uniform 1 (plain geodesic distance).
   virtual std::vector<double> baseline_density() const;
 
+  /// c > 0 if this energy is c times the path's length (segment_energy(a, b, f) is
+  /// c * |b - a| and there is no smoothness term): the shortest path in a strip of faces
+  /// is then known exactly, and refinement straightens it instead of searching. Default:
+  /// 0 (not a length).
+  virtual double length_factor() const { return 0.0; }
+
   /// Sum of segment energies plus the smoothness penalty.
   double evaluate(const SurfacePath& path) const;
 

@@ -8,6 +8,7 @@
 
 #include "depath/mesh/mesh.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace depath {
@@ -41,6 +42,11 @@ struct SurfacePath {
   void clear() {
     points.clear();
     segment_faces.clear();
+  }
+  /// The same polyline walked the other way (target to source).
+  void reverse() {
+    std::reverse(points.begin(), points.end());
+    std::reverse(segment_faces.begin(), segment_faces.end());
   }
 };
 

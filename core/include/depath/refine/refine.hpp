@@ -80,8 +80,9 @@ SurfacePath refine_path(const Energy& energy, const SurfacePath& path, const Ref
 /// refining it. Every start gets the local moves (no hops); then the hops, which cost
 /// far more, run once from each distinct local optimum within 1% of the lowest.
 /// Guarantees: the result's energy is at most that of every start and of refining any
-/// start without hops; the rest as for refine_path. options.on_sweep is not called. The
-/// report describes the winning start's refinement, with the evaluations of all;
+/// start without hops; the rest as for refine_path. options.on_sweep is called after
+/// every sweep of every refinement, with the sweeps counted on across them and the lowest
+/// energy so far (and its path). The report describes the winning start's refinement, with the evaluations of all;
 /// initial_energy is the first start's energy. An empty `starts` gives an empty path.
 SurfacePath refine_best_of(const Energy& energy, std::span<const SurfacePath> starts,
                            const RefineOptions& options = {}, const std::function<bool()>& cancelled = {},

@@ -288,10 +288,7 @@ std::vector<SurfacePath> guide_paths(const Mesh& mesh, const Energy& energy, int
       }
     }
     if (best.empty()) continue;
-    if (!from_source) {
-      std::reverse(best.points.begin(), best.points.end());
-      std::reverse(best.segment_faces.begin(), best.segment_faces.end());
-    }
+    if (!from_source) best.reverse();
     paths.push_back(std::move(best));
   }
   return paths;

@@ -75,10 +75,11 @@ TEST(DescentMethod, ReachesTheExactGeodesicOnKitten) {
 
 TEST(DescentMethod, ExactGeodesicsOfTheSmallerSharedMeshes) {
   // Every pair of geodesic_exact.csv on the meshes below 12k vertices (60 pairs; the three
-  // larger meshes are for bench_geodesic_table). Measured: 58 within 0.1%; the misses,
-  // beethoven 369 -> 595 (+0.196%) and dragon 1862 -> 6698 (+0.222%), are local geodesics
-  // in another homotopy class that neither start nor a vertex hop reaches. From the first
-  // start alone: 56 (also dragon 1 -> 1281 +0.445% and 1467 -> 923 +0.124%).
+  // larger meshes are for bench_geodesic_table). Measured: all 60 (worst beethoven
+  // 369 -> 595, +0.094%). Without the corridor detours 58 (beethoven 369 -> 595 +0.196%,
+  // dragon 1862 -> 6698 +0.222%: local geodesics in another homotopy class than the exact
+  // one, more than a vertex hop away); from the fmm path alone 56 (also dragon 1 -> 1281
+  // +0.445% and 1467 -> 923 +0.124%).
   DEPATH_REQUIRE_SHARED_DATA();
   const std::vector<std::string> meshes = {"kitten.off", "cone.off", "beethoven.ply", "terrain_grid30.obj",
                                            "dragon.obj"};
@@ -100,7 +101,7 @@ TEST(DescentMethod, ExactGeodesicsOfTheSmallerSharedMeshes) {
   }
   std::printf("  %d of %d pairs within 0.1%% of exact\n", within, pairs);
   EXPECT_EQ(pairs, 60);
-  EXPECT_GE(within, 58);
+  EXPECT_EQ(within, pairs);
 }
 
 TEST(DescentMethod, RefineAfterDescentChangesNothingForTheWorse) {

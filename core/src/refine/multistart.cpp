@@ -73,11 +73,13 @@ SurfacePath refine_best_of(const Energy& energy, std::span<const SurfacePath> st
   if (options.max_hops > 0) {
     double previous = NAN;
     const double lowest = optima[order.front()].report.final_energy;
+    int hopped = 0;
     for (const int i : order) {
       if (cancelled && cancelled()) break;
       const double e = optima[i].report.final_energy;
       if (e > lowest + kHopGap * std::abs(lowest)) break;
       if (std::abs(e - previous) <= kSameOptimum * std::abs(e)) continue;
+      if (options.hop_starts > 0 && hopped++ == options.hop_starts) break;
       previous = e;
       RefineReport r;
       SurfacePath path = refine_path(energy, optima[i].path, hopping, cancelled, &r);

@@ -51,6 +51,9 @@ struct RefineOptions {
   /// homotopy class (local moves never do); it costs one descent on a stretch of the path
   /// per vertex beside it, per hop.
   int max_hops = 20;
+  /// refine_best_of only: the hops run from at most this many of the lowest distinct
+  /// local optima (0: from every one within 1% of the lowest).
+  int hop_starts = 0;
   /// Called after every sweep (on the calling thread).
   std::function<void(const RefineSweep&)> on_sweep;
 };
@@ -78,7 +81,8 @@ SurfacePath refine_path(const Energy& energy, const SurfacePath& path, const Ref
 /// `starts` (paths between the same end points). The local optima of the refinement
 /// differ by homotopy class, and which start reaches the best one is not visible before
 /// refining it. Every start gets the local moves (no hops); then the hops, which cost
-/// far more, run once from each distinct local optimum within 1% of the lowest.
+/// far more, run once from each distinct local optimum within 1% of the lowest (at most
+/// options.hop_starts of them when that is set).
 /// Guarantees: the result's energy is at most that of every start and of refining any
 /// start without hops; the rest as for refine_path. options.on_sweep is called after
 /// every sweep of every refinement, with the sweeps counted on across them and the lowest

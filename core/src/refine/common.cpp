@@ -60,7 +60,7 @@ double replacement_delta(Evaluator& eval, const SurfacePath& path, int first, in
   // A local path: one extra point on each side, so that the smoothness terms at the
   // window's ends see their true neighbours.
   const int lo = std::max(0, first - 2), hi = std::min(n - 1, last + 2);
-  SurfacePath local;
+  SurfacePath& local = eval.scratch();
   local.points.assign(path.points.begin() + lo, path.points.begin() + first);
   local.points.insert(local.points.end(), points.begin(), points.end());
   local.points.insert(local.points.end(), path.points.begin() + last + 1, path.points.begin() + hi + 1);

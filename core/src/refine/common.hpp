@@ -58,10 +58,14 @@ class Evaluator {
   /// energy (ties: the first found; `preferred` first). -1 if they share no face.
   int best_common_face(const SurfacePoint& a, const SurfacePoint& b, int preferred);
 
+  /// A path to build candidate windows in, kept so that trying one allocates nothing.
+  SurfacePath& scratch() { return scratch_; }
+
  private:
   const Energy& energy_;
   const Mesh& mesh_;
   int64_t evaluations_ = 0;
+  SurfacePath scratch_;
 };
 
 /// Energy change (new - old) of replacing the interior points first..last of `path` by

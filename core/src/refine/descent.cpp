@@ -24,7 +24,9 @@ double descend(Evaluator& eval, SurfacePath& path, double energy, const RefineOp
     double e = optimize_edge_points(eval, path, current, options.max_newton_iterations, cancelled);
     // Points pushed to an edge end become vertices, where re-routing can act.
     if (snap_and_merge(path)) e = eval.total(path);
-    const int collapsed = collapse_vertex_runs(eval, path, e);
+    // A length's straightening already ends a path that bends at a vertex exactly there
+    // (snapped above): no run is left to collapse, and trying costs a window per point.
+    const int collapsed = eval.energy().length_factor() > 0.0 ? 0 : collapse_vertex_runs(eval, path, e);
     const int removed = remove_redundant_points(eval, path, e) + collapsed;
     const int rerouted = reroute_vertices(eval, path, e, cancelled);
     if (removed > 0 || rerouted > 0) snap_and_merge(path);

@@ -22,6 +22,7 @@
 // 1051 -> 2350 the best agent refines to +0.31% above the exact geodesic, other agents
 // to the exact one).
 #include "solve/methods/methods.hpp"
+#include "solve/methods/detours.hpp"
 #include "solve/methods/guide.hpp"
 
 #include "depath/de/differential_evolution.hpp"
@@ -287,6 +288,11 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
     }
     if (!cheapest_guide_path.empty()) outcome.refine_starts.push_back(std::move(cheapest_guide_path));
     if (!guide_path.empty()) outcome.refine_starts.push_back(std::move(guide_path));
+    // The local minima DE's paths lead to are those of the fmm path's neighbourhood as a
+    // rule; for a length the descent's other starts reach the rest cheaply.
+    if (ctx.energy.length_factor() > 0.0) {
+      for (SurfacePath& path : descent_starts(ctx)) outcome.refine_starts.push_back(std::move(path));
+    }
   }
   return outcome;
 }

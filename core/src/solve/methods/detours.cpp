@@ -1,12 +1,23 @@
 // SPDX-License-Identifier: MIT
 #include "solve/methods/detours.hpp"
 
+#include "depath/decode/path_decoder.hpp"
+#include "depath/decode/trace.hpp"
+
 #include <algorithm>
 #include <limits>
 
-#include "depath/decode/trace.hpp"
-
 namespace depath {
+namespace {
+
+// Detours: how many, and through which corridor (d_s + d_t within this fraction of the
+// shortest). Measured on the 84 exact pairs with the descent: 2 detours in a 2% corridor
+// reach 83 within 0.1% of the exact length, 4 all 84 (in a 1% or 2% corridor), 8 also 84
+// at 1.2x the time.
+constexpr int kDetours = 4;
+constexpr double kCorridorSlack = 0.02;
+
+}  // namespace
 
 std::vector<SurfacePath> corridor_detours(const FastMarching& from_source, const FastMarching& from_target,
                                           int source, int target, std::span<const SurfacePath> known,
@@ -50,6 +61,36 @@ std::vector<SurfacePath> corridor_detours(const FastMarching& from_source, const
     detours.push_back(std::move(to_m));
   }
   return detours;
+}
+
+std::vector<SurfacePath> descent_starts(const MethodContext& ctx) {
+  std::vector<SurfacePath> starts;
+  const int source = ctx.job.source, target = ctx.job.target;
+  const std::vector<double> density = ctx.energy.baseline_density();
+  SurfacePath back;
+  if (!(ctx.energy.length_factor() > 0.0)) {
+    PathDecoder decoder(ctx.stencils);
+    if (decoder.decode(density, target, source, back)) {
+      back.reverse();
+      starts.push_back(std::move(back));
+    }
+    return starts;
+  }
+  // Whole marches from both ends: the corridor needs both fields everywhere near the path.
+  FastMarching from_source(ctx.stencils), from_target(ctx.stencils);
+  from_source.run(density, source);
+  from_target.run(density, target);
+  if (trace_steepest_descent(from_target, target, source, back)) {
+    back.reverse();
+    starts.push_back(std::move(back));
+  }
+  std::vector<SurfacePath> known = starts;
+  known.push_back(ctx.fmm_path);
+  for (SurfacePath& detour :
+       corridor_detours(from_source, from_target, source, target, known, kDetours, kCorridorSlack)) {
+    starts.push_back(std::move(detour));
+  }
+  return starts;
 }
 
 }  // namespace depath

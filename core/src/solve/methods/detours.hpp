@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: MIT
-// Detour starts for a local descent: paths through the corridor between the end points,
-// away from the paths already found.
+// More starts for a local descent than the fmm path: the same traced the other way, and
+// paths through the corridor between the end points, away from the paths already found.
 #pragma once
-
-#include <span>
-#include <vector>
 
 #include "depath/decode/fast_marching.hpp"
 #include "depath/mesh/surface_path.hpp"
+#include "solve/methods/methods.hpp"
+
+#include <span>
+#include <vector>
 
 namespace depath {
 
@@ -24,5 +25,12 @@ namespace depath {
 std::vector<SurfacePath> corridor_detours(const FastMarching& from_source, const FastMarching& from_target,
                                           int source, int target, std::span<const SurfacePath> known,
                                           int count, double slack);
+
+/// The starts a local descent of ctx's problem takes besides ctx.fmm_path: the fmm path
+/// traced the other way (from the source back in the target's field: round-off in the two
+/// fields sends them around different saddle vertices, and a path through a saddle vertex
+/// is locally shortest whichever side is shorter) and, for a length (whose refinement is
+/// exact and cheap), corridor_detours off both.
+std::vector<SurfacePath> descent_starts(const MethodContext& ctx);
 
 }  // namespace depath

@@ -86,8 +86,10 @@ bool unfold(const Mesh& mesh, const SurfacePath& path, int first, int last, std:
   const SurfacePoint& e1 = path.points[first + 1];
   const double d = (mesh.position(e1.v1) - mesh.position(e1.v0)).norm();
   if (!(d > 0.0)) return false;
+  const int behind_first = third_vertex(mesh, path.segment_faces[first], e1.v0, e1.v1);
+  if (behind_first < 0) return false;
   FlatFace flat;
-  flat.vertex = {e1.v0, e1.v1, third_vertex(mesh, path.segment_faces[first], e1.v0, e1.v1)};
+  flat.vertex = {e1.v0, e1.v1, behind_first};
   flat.at[0] = Vec2(0.0, 0.0);
   flat.at[1] = Vec2(d, 0.0);
   flat.at[2] = lay_out(mesh, e1.v0, flat.at[0], e1.v1, flat.at[1], flat.vertex[2], false);

@@ -12,6 +12,13 @@ bool face_contains(const Mesh& mesh, int f, const SurfacePoint& p) {
   return p.is_vertex() || mesh.corner_of(f, p.v1) >= 0;
 }
 
+int third_vertex(const Mesh& mesh, int f, int a, int b) {
+  for (int v : mesh.face(f)) {
+    if (v != a && v != b) return v;
+  }
+  return -1;
+}
+
 bool same_location(const SurfacePoint& a, const SurfacePoint& b) {
   if (a.is_vertex() != b.is_vertex()) return false;
   if (a.is_vertex()) return a.v0 == b.v0;

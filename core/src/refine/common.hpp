@@ -17,6 +17,9 @@ namespace depath::refine {
 /// True if face f contains the point (its vertex, or both ends of its edge).
 bool face_contains(const Mesh& mesh, int f, const SurfacePoint& p);
 
+/// The vertex of face f that is neither a nor b (-1 if there is none).
+int third_vertex(const Mesh& mesh, int f, int a, int b);
+
 /// True if a and b denote the same location combinatorially (same vertex, or the same
 /// edge at the same parameter in either orientation).
 bool same_location(const SurfacePoint& a, const SurfacePoint& b);

@@ -19,14 +19,6 @@ constexpr double kStraightAngle = 1e-6;
 // Angle between two 3D vectors, in [0, pi].
 double angle_between(const Vec3& x, const Vec3& y) { return std::atan2(x.cross(y).norm(), x.dot(y)); }
 
-// The vertex of face f that is neither a nor b.
-int third_vertex(const Mesh& mesh, int f, int a, int b) {
-  for (int v : mesh.face(f)) {
-    if (v != a && v != b) return v;
-  }
-  return -1;
-}
-
 // Face across edge (v, w) of face f (which contains v and w), or -1.
 int face_across(const Mesh& mesh, int f, int v, int w) {
   const int opposite = third_vertex(mesh, f, v, w);

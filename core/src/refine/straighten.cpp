@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "refine/straighten.hpp"
 
+#include "refine/common.hpp"
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
@@ -32,13 +34,6 @@ struct Portal {
   Vec2 left, right;
   bool left_is_v0 = true;  // the edge point's t runs from left to right
 };
-
-int third_vertex(const Mesh& mesh, int f, int a, int b) {
-  for (int v : mesh.face(f)) {
-    if (v != a && v != b) return v;
-  }
-  return -1;
-}
 
 // Lays out vertex c of a face whose other vertices p, q are laid out already, on the left
 // of p -> q or on its right; the face keeps its edge lengths.

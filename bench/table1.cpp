@@ -35,12 +35,13 @@
 // seeded `de` against the Steiner truth follow the table.
 //
 // Usage: bench_table1 [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR]
-//                     [--strategy NAME] [--seeded]
+//                     [--strategy NAME] [--seeded] [--seed S]
 //   --rows            comma-separated row numbers (1-based, csv order) or texts matched against
 //                     "application category" (e.g. --rows 1,3 or --rows converge)
 //   --threads         evaluation threads (default 2, the setting)
 //   --max-iterations  caps every row's iterations (ratios stay per evaluation)
 //   --repeat          runs each row K times and keeps the fastest (the runs are identical)
+//   --seed            DE's seed (default 1), to see the quality column over several runs
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -392,6 +393,7 @@ void scaling_section(const std::string& strategy) {
 
 int main(int argc, char** argv) {
   int threads = 2, repeat = 1, max_iterations = 0;
+  uint64_t seed = 1;
   bool seeded = false;
   std::string data = DEPATH_SHARED_DATA, strategy = "rand1bin", rows_arg;
   for (int i = 1; i < argc; ++i) {
@@ -408,12 +410,14 @@ int main(int argc, char** argv) {
       data = argv[++i];
     else if (arg == "--strategy" && i + 1 < argc)
       strategy = argv[++i];
+    else if (arg == "--seed" && i + 1 < argc)
+      seed = std::strtoull(argv[++i], nullptr, 10);
     else if (arg == "--repeat" && i + 1 < argc)
       repeat = std::max(1, std::atoi(argv[++i]));
     else {
       std::fprintf(stderr,
                    "usage: %s [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR] "
-                   "[--strategy NAME] [--seeded]\n",
+                   "[--strategy NAME] [--seeded] [--seed S]\n",
                    argv[0]);
       return 2;
     }
@@ -447,6 +451,7 @@ int main(int argc, char** argv) {
       job.threads = threads;
       job.de.strategy = strategy;
       job.de.seed_with_problem = seeded;
+      job.seed = seed;
       if (max_iterations > 0) job.de.generations = std::min(job.de.generations, max_iterations);
       SolveResult r;
       double wall = INFINITY, cpu = 0.0;

@@ -9,189 +9,240 @@
 #include <cstdint>
 #include <limits>
 
-namespace depath {
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
-FastMarching::FastMarching(const FastMarchingStencils& stencils) : stencils_(stencils) {
+namespace depath {
+namespace {
+
+using Update = FastMarchingStencils::Update;
+constexpr uint8_t kFinalState = 2;  // FastMarching::kFinal
+
+// Two doubles, one per triangle update of a record: SSE2 where there is SSE2 (every
+// x86-64), plain scalars elsewhere. Either way every lane sees the same IEEE operations in
+// the same order, so both give the same bits.
+#if defined(__SSE2__)
+using Pair = __m128d;
+inline Pair splat(double v) { return _mm_set1_pd(v); }
+inline Pair pair(double a, double b) { return _mm_set_pd(b, a); }
+inline Pair widen(const float* f) {
+  return _mm_cvtps_pd(_mm_castpd_ps(_mm_load_sd(reinterpret_cast<const double*>(f))));
+}
+inline Pair add(Pair a, Pair b) { return _mm_add_pd(a, b); }
+inline Pair sub(Pair a, Pair b) { return _mm_sub_pd(a, b); }
+inline Pair mul(Pair a, Pair b) { return _mm_mul_pd(a, b); }
+inline Pair div(Pair a, Pair b) { return _mm_div_pd(a, b); }
+inline Pair sqrt(Pair a) { return _mm_sqrt_pd(a); }
+inline Pair clamp01(Pair a) { return _mm_min_pd(_mm_max_pd(a, _mm_setzero_pd()), _mm_set1_pd(1.0)); }
+// All-ones lanes where a > b / a < b (false for NaN), and their conjunction.
+inline Pair greater(Pair a, Pair b) { return _mm_cmpgt_pd(a, b); }
+inline Pair less(Pair a, Pair b) { return _mm_cmplt_pd(a, b); }
+inline Pair both(Pair a, Pair b) { return _mm_and_pd(a, b); }
+// Lanes of `a` where `mask`, +infinity elsewhere.
+inline Pair or_infinity(Pair mask, Pair a) {
+  return _mm_or_pd(_mm_and_pd(mask, a),
+                   _mm_andnot_pd(mask, _mm_set1_pd(std::numeric_limits<double>::infinity())));
+}
+inline double lane0(Pair a) { return _mm_cvtsd_f64(a); }
+inline double lane1(Pair a) { return _mm_cvtsd_f64(_mm_unpackhi_pd(a, a)); }
+#else
+struct Pair {
+  double v[2];
+};
+inline Pair splat(double v) { return {{v, v}}; }
+inline Pair pair(double a, double b) { return {{a, b}}; }
+inline Pair widen(const float* f) { return {{double(f[0]), double(f[1])}}; }
+template <class Op>
+inline Pair lanes(Pair a, Pair b, Op op) {
+  return {{op(a.v[0], b.v[0]), op(a.v[1], b.v[1])}};
+}
+inline Pair add(Pair a, Pair b) {
+  return lanes(a, b, [](double x, double y) { return x + y; });
+}
+inline Pair sub(Pair a, Pair b) {
+  return lanes(a, b, [](double x, double y) { return x - y; });
+}
+inline Pair mul(Pair a, Pair b) {
+  return lanes(a, b, [](double x, double y) { return x * y; });
+}
+inline Pair div(Pair a, Pair b) {
+  return lanes(a, b, [](double x, double y) { return x / y; });
+}
+inline Pair sqrt(Pair a) { return {{std::sqrt(a.v[0]), std::sqrt(a.v[1])}}; }
+inline Pair clamp01(Pair a) { return {{std::clamp(a.v[0], 0.0, 1.0), std::clamp(a.v[1], 0.0, 1.0)}}; }
+// Masks are 1.0 / 0.0 lanes here.
+inline Pair greater(Pair a, Pair b) {
+  return lanes(a, b, [](double x, double y) { return x > y ? 1.0 : 0.0; });
+}
+inline Pair less(Pair a, Pair b) {
+  return lanes(a, b, [](double x, double y) { return x < y ? 1.0 : 0.0; });
+}
+inline Pair both(Pair a, Pair b) {
+  return lanes(a, b, [](double x, double y) { return x * y; });
+}
+inline Pair or_infinity(Pair mask, Pair a) {
+  return lanes(mask, a,
+               [](double m, double x) { return m != 0.0 ? x : std::numeric_limits<double>::infinity(); });
+}
+inline double lane0(Pair a) { return a.v[0]; }
+inline double lane1(Pair a) { return a.v[1]; }
+#endif
+
+// Lowers `best` to the record's triangle updates of its target c, in slot order; a slot
+// counts where its support is final and the update has an interior minimiser.
+// Semi-Lagrangian: minimise u(p) + F |p - c| over p on the support segment x-y, F the mean
+// density of the segment p-c, taken at the foot of the perpendicular first and again at
+// that pass's minimiser (for rx == ry both passes find the same F). `rcx` is rho[c] + rho[x].
+inline void triangle_updates(const Update& g, const double* u, const double* rho, const uint8_t* state,
+                             Pair ux, Pair rx, Pair rcx, double& best) {
+  const int y0 = g.other[0], y1 = g.other[1];
+  const bool final0 = state[y0] == kFinalState, final1 = state[y1] == kFinalState;
+  if (!final0 && !final1) return;
+  const Pair delta = sub(pair(u[y0], u[y1]), ux);
+  const Pair ryx = sub(pair(rho[y0], rho[y1]), rx);
+  const Pair lambda0 = widen(g.lambda0), height = widen(g.height), inv_len2 = widen(g.inv_len2);
+  const Pair half = splat(0.5), zero = splat(0.0), one = splat(1.0);
+  const Pair delta2 = mul(mul(delta, delta), inv_len2);
+  const Pair slope = mul(mul(delta, height), inv_len2);
+  // Pass 1: F at the foot of the perpendicular (clamped to the segment).
+  Pair F = mul(half, add(rcx, mul(clamp01(lambda0), ryx)));
+  Pair q = sub(mul(F, F), delta2);
+  Pair ok = greater(q, zero);
+  Pair lambda = sub(lambda0, div(slope, sqrt(q)));
+  ok = both(ok, both(greater(lambda, zero), less(lambda, one)));
+  // Pass 2: F at the minimiser of pass 1.
+  F = mul(half, add(rcx, mul(lambda, ryx)));
+  q = sub(mul(F, F), delta2);
+  ok = both(ok, greater(q, zero));
+  const Pair root = sqrt(q);
+  // lambda0 - slope / root in (0, 1), without the division (root > 0 where ok).
+  ok = both(ok, both(less(slope, mul(lambda0, root)), greater(slope, mul(sub(lambda0, one), root))));
+  const Pair value = or_infinity(ok, add(add(ux, mul(lambda0, delta)), mul(height, root)));
+  if (final0) best = std::min(best, lane0(value));
+  if (final1) best = std::min(best, lane1(value));
+}
+
+}  // namespace
+
+FastMarching::FastMarching(const FastMarchingStencils& stencils)
+    : stencils_(stencils), queue_(2 * static_cast<size_t>(stencils.mesh().num_vertices()) + 64) {
   const int nv = stencils.mesh().num_vertices();
-  u_.assign(nv, std::numeric_limits<double>::infinity());
-  state_.assign(nv, kFar);
+  // One more entry for the sentinel that unused update slots name: never final, never reached.
+  u_.assign(nv + 1, std::numeric_limits<double>::infinity());
+  state_.assign(nv + 1, kFar);
   order_.assign(nv, INT32_MAX);
   accepted_.assign(nv, 0);
   touched_.reserve(nv);
-  heap_pos_.assign(nv, -1);
-  heap_store_.resize(nv + 8);
 }
 
 void FastMarching::push_or_decrease(int v, double value) {
-  int i = heap_pos_[v];
-  if (i < 0) {
-    i = heap_size_++;
+  if (state_[v] == kFar) {
     state_[v] = kTrial;
     touched_.push_back(v);
   }
   u_[v] = value;
-  // Sift up (values only decrease).
-  while (i > 0) {
-    const int parent = (i - 1) >> 2;
-    if (heap_[parent].key <= value) break;
-    heap_[i] = heap_[parent];
-    heap_pos_[heap_[i].vertex] = i;
-    i = parent;
-  }
-  heap_[i] = {value, v};
-  heap_pos_[v] = i;
+  queue_.push(v, value);
+  // v's records are read when it is accepted, mostly soon: start fetching them (on large
+  // meshes the table is in L3 or memory).
+  __builtin_prefetch(stencils_.updates_begin(v));
 }
 
-int FastMarching::pop_min() {
-  HeapEntry* const h = heap_;
-  const int top = h[0].vertex;
-  heap_pos_[top] = -1;
-  const int n = --heap_size_;
-  if (n > 0) {
-    const HeapEntry last = h[n];
-    // Move the hole at the root down to a leaf along the smaller children, then sift
-    // `last` up from there (Floyd's bottom-up variant): `last` came from the bottom and
-    // rarely climbs, and the walk down ends at a depth the branch predictor knows,
-    // instead of after a comparison with `last` that mispredicts once per pop.
-    int i = 0;
-    for (;;) {
-      const int c = 4 * i + 1;
-      if (c >= n) break;
-      int m;
-      if (c + 3 < n) {
-        // Index arithmetic instead of ?: so that no jump depends on the (random) keys.
-        const int m01 = c + int(h[c + 1].key < h[c].key);
-        const int m23 = c + 2 + int(h[c + 3].key < h[c + 2].key);
-        m = m01 ^ ((m01 ^ m23) & -int(h[m23].key < h[m01].key));
-      } else {
-        m = c;
-        for (int k = c + 1; k < n; ++k)
-          if (h[k].key < h[m].key) m = k;
-      }
-      h[i] = h[m];
-      heap_pos_[h[i].vertex] = i;
-      i = m;
-    }
-    while (i > 0) {
-      const int parent = (i - 1) >> 2;
-      if (h[parent].key <= last.key) break;
-      h[i] = h[parent];
-      heap_pos_[h[i].vertex] = i;
-      i = parent;
-    }
-    h[i] = last;
-    heap_pos_[last.vertex] = i;
-  }
-  return top;
+int32_t FastMarching::front() {
+  // An entry is stale once its vertex is final or has a lower value (pushed again).
+  return queue_.front([this](int32_t v, double key) { return state_[v] != kFinal && !(key > u_[v]); });
 }
 
 void FastMarching::reset() {
-  const int nv = static_cast<int>(u_.size());
+  const int nv = static_cast<int>(u_.size()) - 1;
   if (touched_.size() * 4 > size_t(nv)) {
     std::fill(u_.begin(), u_.end(), std::numeric_limits<double>::infinity());
-    std::fill(state_.begin(), state_.end(), kFar);
+    std::fill(state_.begin(), state_.end(), kFar);  // the sentinel included
     std::fill(order_.begin(), order_.end(), INT32_MAX);
-    std::fill(heap_pos_.begin(), heap_pos_.end(), -1);
   } else {
     for (const int32_t v : touched_) {
       u_[v] = std::numeric_limits<double>::infinity();
       state_[v] = kFar;
       order_[v] = INT32_MAX;
-      heap_pos_[v] = -1;
     }
   }
   touched_.clear();
-  heap_size_ = 0;
+  queue_.clear();
   num_final_ = 0;
-  // Align so that the children 4i+1 .. 4i+4 of every node share a cache line.
-  const auto addr = reinterpret_cast<uintptr_t>(heap_store_.data() + 1);
-  heap_ = heap_store_.data() + ((64 - addr % 64) % 64) / sizeof(HeapEntry);
 }
 
 void FastMarching::run(std::span<const double> density, int source, int stop_vertex) {
-  march(density.data(), source, stop_vertex);
+  // The march reads the density of the sentinel vertex too (its value never matters).
+  const size_t nv = u_.size() - 1;
+  rho_.resize(nv + 1);
+  std::copy_n(density.begin(), std::min(density.size(), nv), rho_.begin());
+  std::fill(rho_.begin() + std::min(density.size(), nv), rho_.end(), 0.0);
+  march(rho_.data(), source, stop_vertex);
 }
 
 void FastMarching::run_log(std::span<const double> log_density, int source, int stop_vertex) {
   // All at once rather than per vertex reached: the vectorised exp costs less for the
   // whole mesh than std::exp for the part an early-stopped march reaches.
-  rho_.resize(u_.size());
-  const size_t given = std::min(log_density.size(), rho_.size());
-  densities_from_logs(log_density.first(given), rho_);
+  const size_t nv = u_.size() - 1;
+  rho_.resize(nv + 1);
+  const size_t given = std::min(log_density.size(), nv);
+  densities_from_logs(log_density.first(given), std::span<double>(rho_).first(nv));
   std::fill(rho_.begin() + given, rho_.end(), 0.0);
   march(rho_.data(), source, stop_vertex);
 }
 
-void FastMarching::march(const double* rho, int source, int stop_vertex) {
+bool FastMarching::is_ring_final(int v) const {
   const Mesh& mesh = stencils_.mesh();
-  reset();
-  const FastMarchingStencils::Tri* const tris = stencils_.tris();
+  if (state_[v] != kFinal) return false;
+  for (const int* n = mesh.vertex_neighbors_begin(v); n != mesh.vertex_neighbors_end(v); ++n) {
+    if (state_[*n] != kFinal) return false;
+  }
+  return true;
+}
+
+// Makes the vertex of queue entry `entry` final and updates its neighbours from it;
+// returns it.
+inline int FastMarching::accept(int32_t entry, const double* rho) {
   double* const u = u_.data();
   const uint8_t* const state = state_.data();
+  const int x = queue_.pop(entry);
+  state_[x] = kFinal;
+  accepted_[num_final_] = x;
+  order_[x] = num_final_++;
+  const double ux = u[x];
+  const double rx = rho[x];
 
+  const Pair vux = splat(ux), vrx = splat(rx);
+  for (const Update *g = stencils_.updates_begin(x), *end = stencils_.updates_end(x); g != end;) {
+    const int c = g->target;
+    if (state[c] == kFinal) {
+      do ++g;
+      while (g != end && g->target == c);
+      continue;
+    }
+    const double rc = rho[c];
+    // Straight segment from x: length times the mean density at its ends.
+    double best = ux + 0.5 * (rc + rx) * double(g->len);
+    const Pair rcx = splat(rc + rx);
+    do {
+      triangle_updates(*g, u, rho, state, vux, vrx, rcx, best);
+      ++g;
+    } while (g != end && g->target == c);
+    // Keep acceptance order monotone (Dijkstra invariant): nothing below what is final.
+    best = std::max(best, ux);
+    if (best < u[c]) push_or_decrease(c, best);
+  }
+  return x;
+}
+
+void FastMarching::march(const double* density, int source, int stop_vertex) {
+  reset();
   push_or_decrease(source, 0.0);
   bool stop_reached = false;
-  while (heap_size_ > 0) {
-    const int x = pop_min();
-    state_[x] = kFinal;
-    accepted_[num_final_] = x;
-    order_[x] = num_final_++;
-    const double ux = u[x];
-    const double rx = rho[x];
-    if (heap_size_ > 0) {
-      // The next vertex to accept is most likely the new top: fetch its stencil early.
-      const auto* next = stencils_.groups_begin(heap_[0].vertex);
-      __builtin_prefetch(next);
-      __builtin_prefetch(reinterpret_cast<const char*>(next) + 64);
-    }
-
-    for (auto* g = stencils_.groups_begin(x), *end = stencils_.groups_end(x); g != end; ++g) {
-      const int c = g->target;
-      if (state[c] == kFinal) continue;
-      const double rc = rho[c];
-      // Straight segment from x: length times the mean density at its ends.
-      double best = ux + 0.5 * (rc + rx) * double(g->len);
-      for (auto* t = tris + g->tri_begin, *tend = tris + g->tri_end; t != tend; ++t) {
-        const int y = t->other;
-        if (state[y] != kFinal) continue;
-        const double uy = u[y];
-        const double ry = rho[y];
-        const double delta = uy - ux;
-        // Semi-Lagrangian triangle update: minimise u(p) + F |p - c| over p on segment x-y,
-        // F the mean density of the segment p-c (refined once at the minimiser).
-        const double lambda0 = t->lambda0, height = t->height, inv_len2 = t->inv_len2;
-        double lambda = std::min(std::max(lambda0, 0.0), 1.0);
-        for (int pass = 0; pass < 2; ++pass) {
-          const double F = 0.5 * (rc + rx + lambda * (ry - rx));
-          const double q = F * F - delta * delta * inv_len2;
-          if (q <= 0.0) break;
-          const double root = std::sqrt(q);
-          const double l = lambda0 - delta * height * inv_len2 / root;
-          if (l <= 0.0 || l >= 1.0) break;
-          lambda = l;
-          if (pass == 1 || rx == ry) {
-            best = std::min(best, ux + lambda0 * delta + height * root);
-            break;
-          }
-        }
-        // (The straight segment from y was tried when y was accepted.)
-      }
-      // Keep acceptance order monotone (Dijkstra invariant): nothing below what is final.
-      best = std::max(best, ux);
-      if (best < u[c]) push_or_decrease(c, best);
-    }
-
+  for (int32_t entry = front(); entry >= 0; entry = front()) {
+    const int x = accept(entry, density);
     if (x == stop_vertex) stop_reached = true;
-    if (stop_reached) {
-      bool ring_final = true;
-      for (const int* n = mesh.vertex_neighbors_begin(stop_vertex); n != mesh.vertex_neighbors_end(stop_vertex); ++n) {
-        if (state[*n] != kFinal) {
-          ring_final = false;
-          break;
-        }
-      }
-      if (ring_final) break;
-    }
+    if (stop_reached && is_ring_final(stop_vertex)) break;
   }
 }
 

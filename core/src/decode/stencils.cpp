@@ -26,6 +26,12 @@ constexpr double kObtuseCos = -1e-9;
 
 std::atomic<uint64_t> stencil_builds{0};
 
+// One triangle update "c from (x, other)" as the march uses it (see FastMarchingStencils::Update).
+struct Tri {
+  int32_t other;
+  float lambda0, height, inv_len2;
+};
+
 // A triangle update "target c from supports x, y", all in one (unfolded) plane, c at the origin.
 struct PlanarUpdate {
   int c, x, y;
@@ -132,6 +138,7 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     Tri tri;
   };
   std::vector<Raw> raw;
+  std::vector<Tri> scratch_tris;
   raw.reserve(2 * planar.size() + edge_only.size());
   auto store = [&](int c, int x, int y, const Vec2& px, const Vec2& py, bool x_near) {
     const Vec2 e = py - px;
@@ -179,33 +186,45 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     raw.swap(sorted);
   }
 
+  // Records of at most two triangle updates each, one target after another; the first
+  // record of a target carries its edge candidate.
+  const int32_t sentinel = nv;
   offset_.assign(nv + 1, 0);
-  groups_.clear();
-  tris_.clear();
-  tris_.reserve(raw.size());
+  updates_.clear();
+  updates_.reserve(raw.size() / 2 + nv);
   size_t k = 0;
   for (int x = 0; x < nv; ++x) {
-    offset_[x] = static_cast<int>(groups_.size());
+    offset_[x] = static_cast<int>(updates_.size());
     while (k < raw.size() && raw[k].x == x) {
-      Group g;
-      g.target = raw[k].c;
-      g.len = kNoEdge;
-      g.tri_begin = static_cast<int32_t>(tris_.size());
-      for (; k < raw.size() && raw[k].x == x && raw[k].c == g.target; ++k) {
-        g.len = std::min(g.len, raw[k].len);
-        if (raw[k].has_tri) tris_.push_back(raw[k].tri);
+      const int c = raw[k].c;
+      float len = kNoEdge;
+      std::vector<Tri>& tris = scratch_tris;
+      tris.clear();
+      for (; k < raw.size() && raw[k].x == x && raw[k].c == c; ++k) {
+        len = std::min(len, raw[k].len);
+        if (raw[k].has_tri) tris.push_back(raw[k].tri);
       }
-      g.tri_end = static_cast<int32_t>(tris_.size());
-      groups_.push_back(g);
+      for (size_t i = 0; i == 0 || i < tris.size(); i += 2) {
+        Update u{};
+        u.target = c;
+        u.len = i == 0 ? len : kNoEdge;
+        for (int slot = 0; slot < 2; ++slot) {
+          const bool used = i + slot < tris.size();
+          u.other[slot] = used ? tris[i + slot].other : sentinel;
+          u.lambda0[slot] = used ? tris[i + slot].lambda0 : 0.0f;
+          u.height[slot] = used ? tris[i + slot].height : 0.0f;
+          u.inv_len2[slot] = used ? tris[i + slot].inv_len2 : 0.0f;
+        }
+        updates_.push_back(u);
+      }
     }
   }
-  offset_[nv] = static_cast<int>(groups_.size());
+  offset_[nv] = static_cast<int>(updates_.size());
   stencil_builds.fetch_add(1, std::memory_order_relaxed);
 }
 
 uint64_t FastMarchingStencils::memory_bytes() const {
-  return sizeof(*this) + offset_.capacity() * sizeof(int) + groups_.capacity() * sizeof(Group) +
-         tris_.capacity() * sizeof(Tri);
+  return sizeof(*this) + offset_.capacity() * sizeof(int) + updates_.capacity() * sizeof(Update);
 }
 
 uint64_t FastMarchingStencils::builds() { return stencil_builds.load(std::memory_order_relaxed); }

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <span>
 
 namespace depath {
 namespace {
@@ -25,7 +26,7 @@ struct FlatFace {
   bool usable = false;  // non-degenerate with finite values at all corners
 };
 
-FlatFace flatten(const Mesh& mesh, const std::vector<double>& u, int f) {
+FlatFace flatten(const Mesh& mesh, std::span<const double> u, int f) {
   FlatFace face;
   const auto& t = mesh.face(f);
   for (int i = 0; i < 3; ++i) face.v[i] = t[i];
@@ -267,7 +268,7 @@ class Tracer {
 
   const FastMarching& fm_;
   const Mesh& mesh_;
-  const std::vector<double>& u_;
+  std::span<const double> u_;
   int source_;
   SurfacePath& out_;
   int came_from_ = -1;  // face the current edge point was reached through (-1: none)

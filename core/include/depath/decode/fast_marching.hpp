@@ -6,11 +6,12 @@
 // Outputs: u, the weighted geodesic distance from the source, at every vertex reached.
 // Guarantees: first-order upwind updates, causal on obtuse triangles by unfolding; values
 // finite exactly for the vertices reached; no allocation per run once the workspace has
-// grown. Cost: O(V log V) per run (4-ary heap).
+// grown. Cost: O(V) per run (an untidy bucket queue, bucket_queue.hpp).
 // Reference: R. Kimmel, J. A. Sethian, "Computing geodesic paths on manifolds", PNAS 95
 // (1998) — fast marching on triangulated domains, obtuse angles by unfolding.
 #pragma once
 
+#include "depath/decode/bucket_queue.hpp"
 #include "depath/mesh/mesh.hpp"
 
 #include <cstdint>
@@ -36,26 +37,24 @@ class FastMarchingStencils {
   static uint64_t builds();
 
   /// The updates an accepting vertex x triggers, grouped by target c: one straight edge
-  /// candidate x -> c per group (shortest |c - x| over the faces, +inf when c-x is no mesh
-  /// edge) and the triangle updates "c from (x, other)". The edge candidate other -> c is
-  /// not repeated here: it was applied when `other` was accepted and always dominates.
-  /// Geometry is kept in float: the table stays cache-resident, and float's 1e-7 relative
-  /// error is far below the method's discretisation error.
-  struct Group {
+  /// candidate x -> c (shortest |c - x| over the faces, +inf when c-x is no mesh edge) and
+  /// the triangle updates "c from (x, other)", two to a record so that both are computed at
+  /// once (as the two lanes of one vector). A target with more than two triangle
+  /// updates (a split obtuse corner) continues in the next record, whose `len` is +inf; an
+  /// unused slot names the sentinel vertex num_vertices(), which is never final. The edge
+  /// candidate other -> c is not repeated here: it was applied when `other` was accepted and
+  /// always dominates. Geometry is kept in float: the table stays cache-resident, and
+  /// float's 1e-7 relative error is far below the method's discretisation error.
+  struct Update {
     int32_t target;     ///< vertex whose value is updated
-    float len;          ///< |target - x|, +inf when target-x is no mesh edge
-    int32_t tri_begin;  ///< triangle updates [tri_begin, tri_end) of tris()
-    int32_t tri_end;
+    float len;          ///< |target - x|, +inf when target-x is no mesh edge (or a continuation)
+    int32_t other[2];   ///< second support vertex of each triangle update (must be final too)
+    float lambda0[2];   ///< foot of the perpendicular from target on the support line, as parameter
+    float height[2];    ///< distance from target to the support line
+    float inv_len2[2];  ///< 1 / |other - x|^2 (in the unfolded plane)
   };
-  struct Tri {
-    int32_t other;    ///< second support vertex (must be final too)
-    float lambda0;    ///< foot of the perpendicular from target on the support line, as parameter
-    float height;     ///< distance from target to the support line
-    float inv_len2;   ///< 1 / |other - x|^2 (in the unfolded plane)
-  };
-  const Group* groups_begin(int v) const { return groups_.data() + offset_[v]; }
-  const Group* groups_end(int v) const { return groups_.data() + offset_[v + 1]; }
-  const Tri* tris() const { return tris_.data(); }
+  const Update* updates_begin(int v) const { return updates_.data() + offset_[v]; }
+  const Update* updates_end(int v) const { return updates_.data() + offset_[v + 1]; }
   /// Number of obtuse corners that were split with a virtual edge / left unsplit.
   int num_split_corners() const { return num_split_; }
   int num_unsplit_obtuse_corners() const { return num_unsplit_; }
@@ -63,8 +62,7 @@ class FastMarchingStencils {
  private:
   const Mesh& mesh_;
   std::vector<int> offset_;
-  std::vector<Group> groups_;
-  std::vector<Tri> tris_;
+  std::vector<Update> updates_;
   int num_split_ = 0;
   int num_unsplit_ = 0;
 };
@@ -74,8 +72,9 @@ class FastMarchingStencils {
 /// densities at its ends). Reuses its arrays across runs: no allocation per decode.
 ///
 /// Guarantees: values are finite exactly for the vertices reached; the acceptance order
-/// is non-decreasing in u; every accepted vertex other than the source has a mesh
-/// neighbour accepted before it with a value not larger than its own.
+/// is non-decreasing in u up to a relative 2^-12 (the queue's bucket width); every
+/// accepted vertex other than the source has a mesh neighbour accepted before it with a
+/// value not larger than its own.
 class FastMarching {
  public:
   explicit FastMarching(const FastMarchingStencils& stencils);
@@ -92,7 +91,7 @@ class FastMarching {
 
   /// Value at v: final, tentative (reached but not final) or +infinity.
   double value(int v) const { return u_[v]; }
-  const std::vector<double>& values() const { return u_; }
+  std::span<const double> values() const { return {u_.data(), u_.size() - 1}; }
   bool is_final(int v) const { return state_[v] == kFinal; }
   /// Position of v in the acceptance order (0 for the source), or INT32_MAX.
   int32_t order(int v) const { return order_[v]; }
@@ -103,28 +102,22 @@ class FastMarching {
 
  private:
   static constexpr uint8_t kFar = 0, kTrial = 1, kFinal = 2;
+  // `density` has num_vertices() + 1 entries (the sentinel's last; never used as a cost).
   void march(const double* density, int source, int stop_vertex);
+  int accept(int32_t entry, const double* density);
+  bool is_ring_final(int v) const;
   void reset();
   void push_or_decrease(int v, double value);
-  int pop_min();
+  int32_t front();
 
   const FastMarchingStencils& stencils_;
-  std::vector<double> u_;
+  std::vector<double> u_;  // one per vertex, then the sentinel's (+inf)
   std::vector<uint8_t> state_;
   std::vector<int32_t> order_;
   std::vector<int32_t> accepted_;  // final vertices in acceptance order
   std::vector<int32_t> touched_;   // every vertex given a finite value this run
-  std::vector<double> rho_;        // densities computed by run_log
-  struct HeapEntry {
-    double key;  // copy of u_[vertex]: sifting compares without an indirection
-    int32_t vertex;
-  };
-  // 4-ary min-heap on key; heap_ points into heap_store_ (set at the start of each run)
-  // so that each group of four siblings shares one 64-byte cache line.
-  std::vector<HeapEntry> heap_store_;
-  HeapEntry* heap_ = nullptr;
-  int heap_size_ = 0;
-  std::vector<int32_t> heap_pos_;  // position of each vertex in heap_, or -1
+  std::vector<double> rho_;        // the run's densities, then the sentinel's
+  BucketQueue queue_;              // tentative vertices (entries of stale values included)
   int num_final_ = 0;
 };
 

@@ -56,10 +56,11 @@ void mesh_info_from_mesh(const Mesh& mesh, v1::MeshInfo* out) {
 
 uint64_t mesh_memory_bytes(const Mesh& mesh) {
   // Per vertex: position 24, CSR offsets 8, component 4, ~6 faces + ~6 neighbours 48.
-  // Per face: indices 12, neighbours 12, edge lengths 24, angles 24, normal 24, area 8.
+  // Per face: indices 12, neighbours 12, edge lengths 24, angles 24, layout 24, normal 24,
+  // area 8.
   const uint64_t v = static_cast<uint64_t>(mesh.num_vertices());
   const uint64_t f = static_cast<uint64_t>(mesh.num_faces());
-  return 512 + v * 84 + f * 104;
+  return 512 + v * 84 + f * 128;
 }
 
 }  // namespace depath::wire

@@ -31,11 +31,10 @@ FlatFace flatten(const Mesh& mesh, std::span<const double> u, int f) {
   const auto& t = mesh.face(f);
   for (int i = 0; i < 3; ++i) face.v[i] = t[i];
   if (mesh.face_area(f) <= 0.0 || mesh.face_normal(f).squaredNorm() == 0.0) return face;
-  const double l01 = mesh.edge_length(f, 2), l02 = mesh.edge_length(f, 1);
-  const double angle = mesh.corner_angle(f, 0);
+  const auto& layout = mesh.face_layout(f);
   face.p[0] = Vec2(0, 0);
-  face.p[1] = Vec2(l01, 0);
-  face.p[2] = Vec2(l02 * std::cos(angle), l02 * std::sin(angle));
+  face.p[1] = Vec2(layout[0], 0);
+  face.p[2] = Vec2(layout[1], layout[2]);
   const double u0 = u[t[0]], u1 = u[t[1]], u2 = u[t[2]];
   if (!std::isfinite(u0) || !std::isfinite(u1) || !std::isfinite(u2)) return face;
   // grad . (p1 - p0) = u1 - u0, grad . (p2 - p0) = u2 - u0.

@@ -99,6 +99,11 @@ Mesh::Mesh(std::vector<Vec3> positions, std::vector<std::array<int, 3>> faces)
       corner_angles_[f] = {0.0, 0.0, 0.0};
     }
   }
+  face_layouts_.resize(nf);
+  for (int f = 0; f < nf; ++f) {
+    const double l01 = edge_lengths_[f][2], l02 = edge_lengths_[f][1], angle = corner_angles_[f][0];
+    face_layouts_[f] = {l01, l02 * std::cos(angle), l02 * std::sin(angle)};
+  }
 
   // Face neighbours via sorted undirected edges; > 2 faces on an edge = non-manifold.
   struct EdgeRef {

@@ -51,6 +51,10 @@ class Mesh {
   double edge_length(int f, int k) const { return edge_lengths_[f][k]; }
   /// Interior angle at corner k of face f, radians (0 for degenerate faces).
   double corner_angle(int f, int k) const { return corner_angles_[f][k]; }
+  /// Face f laid out in its own plane, as {x1, x2, y2}: corner 0 at (0, 0), corner 1 at
+  /// (x1, 0), corner 2 at (x2, y2) (from the edge lengths and the angle at corner 0; y2 >= 0).
+  /// The back-trace works in this layout, face after face.
+  const std::array<double, 3>& face_layout(int f) const { return face_layouts_[f]; }
   /// Unit normal of face f (zero for degenerate faces).
   const Vec3& face_normal(int f) const { return face_normals_[f]; }
   double face_area(int f) const { return face_areas_[f]; }
@@ -90,6 +94,7 @@ class Mesh {
   std::vector<std::array<int, 3>> face_neighbors_;
   std::vector<std::array<double, 3>> edge_lengths_;
   std::vector<std::array<double, 3>> corner_angles_;
+  std::vector<std::array<double, 3>> face_layouts_;
   std::vector<Vec3> face_normals_;
   std::vector<double> face_areas_;
   std::vector<int> vf_offset_, vf_index_;

@@ -47,10 +47,10 @@ bool BucketQueue::advance() {
     if (overflow_.empty() || overflow_.front().first >= current_ + kBuckets) return true;
     // Part of the overflow fits the ring now: bucket it, then look again.
     while (!overflow_.empty() && overflow_.front().first < current_ + kBuckets) {
-      const int32_t e = overflow_.front().second;
+      const auto [bucket, e] = overflow_.front();
       std::pop_heap(overflow_.begin(), overflow_.end(), std::greater<>());
       overflow_.pop_back();
-      insert(e);
+      insert(e, bucket);
     }
   }
 }

@@ -149,8 +149,7 @@ void FastMarching::push_or_decrease(int v, double value) {
 }
 
 int32_t FastMarching::front() {
-  // An entry is stale once its vertex is final or has a lower value (pushed again).
-  return queue_.front([this](int32_t v, double key) { return state_[v] != kFinal && !(key > u_[v]); });
+  return queue_.front([this](int32_t v) { return state_[v] != kFinal; });
 }
 
 void FastMarching::reset() {

@@ -6,8 +6,10 @@
 // (fast marching's monotonicity). Outputs: the vertices in order of their keys, up to a
 // relative 2^-12: within one bucket (keys k with the same top 12 mantissa bits) the last
 // pushed comes first. Guarantees: O(1) per push and per pop amortised, no allocation per
-// run once grown; stale entries (a vertex pushed again with a lower key, or made final)
-// are dropped when they come to the front, so no decrease-key is needed.
+// run once grown; no decrease-key: a vertex whose key falls is pushed again, and its older
+// entries, which lie in its bucket or later ones, come to the front only after the newer
+// one, when the caller refuses them (the vertex is final by then). Entries hold no key, so
+// the caller keeps the current values.
 //
 // Why: a 4-ary heap spent a third of the march in sifting, most of it in compares the
 // branch predictor cannot learn (DE's densities are random). A bucket's width is 2.4e-4 of
@@ -41,13 +43,13 @@ class BucketQueue {
     if (static_cast<std::size_t>(num_entries_) == entries_.size()) [[unlikely]]
       entries_.resize(2 * entries_.size() + 64);
     const int32_t e = num_entries_++;
-    entries_[e].key = key;
     entries_[e].vertex = vertex;
-    insert(e);
+    insert(e, bucket_of(key));
   }
 
-  /// The front entry that `is_live(vertex, key)` accepts, dropping those it refuses; -1
-  /// when the queue is empty. Stays the front until popped or a push.
+  /// The front entry whose vertex `is_live(vertex)` accepts, dropping those it refuses
+  /// (for a fast march: final vertices); -1 when the queue is empty. Stays the front until
+  /// popped or a push.
   template <class IsLive>
   int32_t front(IsLive is_live) {
     for (;;) {
@@ -58,7 +60,7 @@ class BucketQueue {
         if (!advance()) return -1;
         continue;
       }
-      if (is_live(entries_[e].vertex, entries_[e].key)) return e;
+      if (is_live(entries_[e].vertex)) return e;
       head_[b] = entries_[e].next;
     }
   }
@@ -67,11 +69,9 @@ class BucketQueue {
     head_[static_cast<uint32_t>(current_) & kMask] = entries_[e].next;
     return entries_[e].vertex;
   }
-  double key(int32_t e) const { return entries_[e].key; }
 
  private:
   struct Entry {
-    double key;
     int32_t vertex;
     int32_t next;  // next entry of the same bucket, -1 at its end
   };
@@ -83,8 +83,7 @@ class BucketQueue {
   static constexpr uint32_t kMask = kBuckets - 1;
   static uint64_t bucket_of(double key) { return std::bit_cast<uint64_t>(key) >> (52 - kMantissaBits); }
 
-  void insert(int32_t e) {
-    uint64_t b = bucket_of(entries_[e].key);
+  void insert(int32_t e, uint64_t b) {
     b = b < current_ ? current_ : b;
     if (b >= current_ + kBuckets) [[unlikely]] {
       defer(e, b);

@@ -46,12 +46,17 @@ bool BucketQueue::advance() {
     }
     if (overflow_.empty() || overflow_.front().first >= current_ + kBuckets) return true;
     // Part of the overflow fits the ring now: bucket it, then look again.
-    while (!overflow_.empty() && overflow_.front().first < current_ + kBuckets) {
-      const auto [bucket, e] = overflow_.front();
-      std::pop_heap(overflow_.begin(), overflow_.end(), std::greater<>());
-      overflow_.pop_back();
-      insert(e, bucket);
-    }
+    take_in_overflow();
+  }
+}
+
+// Out of line, so that advance(), called about once per vertex, saves few registers.
+void BucketQueue::take_in_overflow() {
+  while (!overflow_.empty() && overflow_.front().first < current_ + kBuckets) {
+    const auto [bucket, e] = overflow_.front();
+    std::pop_heap(overflow_.begin(), overflow_.end(), std::greater<>());
+    overflow_.pop_back();
+    insert(e, bucket);
   }
 }
 

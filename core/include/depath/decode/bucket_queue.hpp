@@ -98,6 +98,8 @@ class BucketQueue {
   /// Moves current_ to the next bucket in use (taking in the overflow that now fits);
   /// false when nothing is left.
   bool advance();
+  /// Buckets the overflow entries that now fall within the ring.
+  [[gnu::noinline]] void take_in_overflow();
 
   std::vector<Entry> entries_;
   int32_t num_entries_ = 0;

@@ -17,7 +17,6 @@ namespace depath {
 namespace {
 
 using Update = FastMarchingStencils::Update;
-constexpr uint8_t kFinalState = 2;  // FastMarching::kFinal
 
 // Two doubles, one per triangle update of a record: SSE2 where there is SSE2 (every
 // x86-64), plain scalars elsewhere. Either way every lane sees the same IEEE operations in
@@ -97,7 +96,7 @@ inline double lane1(Pair a) { return a.v[1]; }
 inline void triangle_updates(const Update& g, const double* u, const double* rho, const uint8_t* state,
                              Pair ux, Pair rx, Pair rcx, double& best) {
   const int y0 = g.other[0], y1 = g.other[1];
-  const bool final0 = state[y0] == kFinalState, final1 = state[y1] == kFinalState;
+  const bool final0 = state[y0] == FastMarching::kFinal, final1 = state[y1] == FastMarching::kFinal;
   if (!final0 && !final1) return;
   const Pair delta = sub(pair(u[y0], u[y1]), ux);
   const Pair ryx = sub(pair(rho[y0], rho[y1]), rx);
@@ -128,9 +127,11 @@ inline void triangle_updates(const Update& g, const double* u, const double* rho
 FastMarching::FastMarching(const FastMarchingStencils& stencils)
     : stencils_(stencils), queue_(2 * static_cast<size_t>(stencils.mesh().num_vertices()) + 64) {
   const int nv = stencils.mesh().num_vertices();
-  // One more entry for the sentinel that unused update slots name: never final, never reached.
+  // One more entry for the sentinel that unused update slots name: never final, never
+  // reached; the march reads its density too (the value never matters).
   u_.assign(nv + 1, std::numeric_limits<double>::infinity());
   state_.assign(nv + 1, kFar);
+  rho_.assign(nv + 1, 0.0);
   order_.assign(nv, INT32_MAX);
   accepted_.assign(nv, 0);
   touched_.reserve(nv);
@@ -176,22 +177,20 @@ void FastMarching::reset() {
 }
 
 void FastMarching::run(std::span<const double> density, int source, int stop_vertex) {
-  // The march reads the density of the sentinel vertex too (its value never matters).
-  const size_t nv = u_.size() - 1;
-  rho_.resize(nv + 1);
-  std::copy_n(density.begin(), std::min(density.size(), nv), rho_.begin());
-  std::fill(rho_.begin() + std::min(density.size(), nv), rho_.end(), 0.0);
+  const size_t nv = rho_.size() - 1;
+  const size_t given = std::min(density.size(), nv);
+  std::copy_n(density.begin(), given, rho_.begin());
+  std::fill(rho_.begin() + given, rho_.begin() + nv, 0.0);
   march(rho_.data(), source, stop_vertex);
 }
 
 void FastMarching::run_log(std::span<const double> log_density, int source, int stop_vertex) {
   // All at once rather than per vertex reached: the vectorised exp costs less for the
   // whole mesh than std::exp for the part an early-stopped march reaches.
-  const size_t nv = u_.size() - 1;
-  rho_.resize(nv + 1);
+  const size_t nv = rho_.size() - 1;
   const size_t given = std::min(log_density.size(), nv);
-  densities_from_logs(log_density.first(given), std::span<double>(rho_).first(nv));
-  std::fill(rho_.begin() + given, rho_.end(), 0.0);
+  densities_from_logs(log_density.first(given), std::span<double>(rho_).first(given));
+  std::fill(rho_.begin() + given, rho_.begin() + nv, 0.0);
   march(rho_.data(), source, stop_vertex);
 }
 

@@ -138,7 +138,7 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     Tri tri;
   };
   std::vector<Raw> raw;
-  std::vector<Tri> scratch_tris;
+  std::vector<Tri> tris;  // the triangle updates of one (x, target)
   raw.reserve(2 * planar.size() + edge_only.size());
   auto store = [&](int c, int x, int y, const Vec2& px, const Vec2& py, bool x_near) {
     const Vec2 e = py - px;
@@ -198,7 +198,6 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     while (k < raw.size() && raw[k].x == x) {
       const int c = raw[k].c;
       float len = kNoEdge;
-      std::vector<Tri>& tris = scratch_tris;
       tris.clear();
       for (; k < raw.size() && raw[k].x == x && raw[k].c == c; ++k) {
         len = std::min(len, raw[k].len);

@@ -100,8 +100,10 @@ class FastMarching {
   std::span<const int32_t> accepted() const { return {accepted_.data(), size_t(num_final_)}; }
   const FastMarchingStencils& stencils() const { return stencils_; }
 
- private:
+  /// A vertex's state during a run: not reached, tentative, final.
   static constexpr uint8_t kFar = 0, kTrial = 1, kFinal = 2;
+
+ private:
   // `density` has num_vertices() + 1 entries (the sentinel's last; never used as a cost).
   void march(const double* density, int source, int stop_vertex);
   int accept(int32_t entry, const double* density);
@@ -116,7 +118,7 @@ class FastMarching {
   std::vector<int32_t> order_;
   std::vector<int32_t> accepted_;  // final vertices in acceptance order
   std::vector<int32_t> touched_;   // every vertex given a finite value this run
-  std::vector<double> rho_;        // the run's densities, then the sentinel's
+  std::vector<double> rho_;        // the run's densities, then the sentinel's (0)
   BucketQueue queue_;              // tentative vertices (entries of stale values included)
   int num_final_ = 0;
 };

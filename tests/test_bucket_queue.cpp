@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The fast march's untidy bucket queue: order up to its bucket width, stale entries,
-// keys over many orders of magnitude.
+// The fast march's untidy bucket queue: order up to its bucket width, lowered keys (moved,
+// never popped twice), keys over many orders of magnitude, the overflow beyond the ring.
 #include "depath/decode/bucket_queue.hpp"
 
 #include <gtest/gtest.h>
@@ -16,10 +16,21 @@ namespace {
 // A bucket spans keys with the same top 12 mantissa bits: at most 2^-12 relative apart.
 constexpr double kWidth = 1.0 / 4096;
 
-// Pops everything, pushing as a fast march would: each pop adds a few keys above it.
+// Pops until empty; returns the vertices in the order popped.
+std::vector<int32_t> pop_all(BucketQueue& queue) {
+  std::vector<int32_t> order;
+  for (int32_t v = queue.front(); v >= 0; v = queue.front()) {
+    queue.pop(v);
+    order.push_back(v);
+  }
+  return order;
+}
+
+// Pops everything, pushing as a fast march would: each pop adds a few keys above it and
+// now and then lowers the key of a vertex still waiting.
 struct Simulation {
   std::vector<double> popped;
-  std::vector<double> pushed;
+  int lowered = 0;
 };
 
 Simulation simulate(uint64_t seed, double low, double high) {
@@ -28,14 +39,13 @@ Simulation simulate(uint64_t seed, double low, double high) {
   std::uniform_real_distribution<double> exponent(std::log(low), std::log(high));
   std::vector<double> value(20000, INFINITY);
   std::vector<char> done(value.size(), 0);
-  BucketQueue queue(value.size() * 8);
+  BucketQueue queue(value.size());
   Simulation sim;
   int next_vertex = 1;
   value[0] = 0.0;
   queue.push(0, 0.0);
-  auto live = [&](int32_t v) { return !done[v]; };
-  for (int32_t e = queue.front(live); e >= 0; e = queue.front(live)) {
-    const int32_t v = queue.pop(e);
+  for (int32_t v = queue.front(); v >= 0; v = queue.front()) {
+    queue.pop(v);
     EXPECT_FALSE(done[v]) << "vertex " << v << " popped twice";
     done[v] = 1;
     sim.popped.push_back(value[v]);
@@ -43,12 +53,11 @@ Simulation simulate(uint64_t seed, double low, double high) {
       const int w = next_vertex++;
       value[w] = value[v] + std::exp(exponent(rng));
       queue.push(w, value[w]);
-      sim.pushed.push_back(value[w]);
-      // Now and then lower a value still waiting (a decrease-key done as a second push).
       const int old = w - 1 - static_cast<int>(rng() % 8);
       if (old > 0 && !done[old] && rng() % 2 == 0) {
         value[old] = std::max(value[v], value[old] - 0.5 * (value[old] - value[v]));
         queue.push(old, value[old]);
+        ++sim.lowered;
       }
     }
   }
@@ -56,12 +65,14 @@ Simulation simulate(uint64_t seed, double low, double high) {
 }
 
 TEST(BucketQueue, PopsInKeyOrderUpToTheBucketWidth) {
-  // Seeded random instances over narrow and very wide ranges of increments.
+  // Seeded random instances over narrow and very wide ranges of increments (the widest
+  // put keys more than two binades above the front, into the overflow).
   const std::vector<std::pair<double, double>> ranges = {{1.0, 2.0}, {1e-3, 1.0}, {1e-9, 1e3}, {1e-12, 1e12}};
   for (uint64_t seed = 1; seed <= 5; ++seed) {
     for (const auto& [low, high] : ranges) {
       const Simulation sim = simulate(seed, low, high);
       ASSERT_EQ(sim.popped.size(), 20000u) << "every vertex popped once (seed " << seed << ")";
+      EXPECT_GT(sim.lowered, 1000) << "the simulation lowers keys";
       double highest = 0.0, worst = 0.0;
       int inversions = 0;
       for (const double key : sim.popped) {
@@ -78,49 +89,58 @@ TEST(BucketQueue, PopsInKeyOrderUpToTheBucketWidth) {
   }
 }
 
-TEST(BucketQueue, DropsStaleEntriesAndIsEmptyAfterwards) {
-  BucketQueue queue(16);
-  std::vector<double> value = {3.0, 2.0, 5.0};
-  std::vector<char> done(3, 0);
-  auto live = [&](int32_t v) { return !done[v]; };
+TEST(BucketQueue, MovesAVertexWhoseKeyFallsAndIsReusableAfterClear) {
+  BucketQueue queue(3);
   queue.push(0, 3.0);
   queue.push(1, 2.0);
   queue.push(2, 5.0);
-  value[2] = 2.5;  // lowered: its first entry is stale now
-  queue.push(2, 2.5);
-  std::vector<int32_t> order;
-  for (int32_t e = queue.front(live); e >= 0; e = queue.front(live)) {
-    const int32_t v = queue.pop(e);
-    done[v] = 1;
-    order.push_back(v);
-  }
-  EXPECT_EQ(order, (std::vector<int32_t>{1, 2, 0}));
-  // Reusable after clear().
+  queue.push(2, 2.5);  // lowered: moved, not queued twice
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{1, 2, 0}));
+  // Cleared with vertices still queued, then used again.
+  queue.push(0, 1.0);
+  queue.push(2, 4.0);
   queue.clear();
-  std::fill(done.begin(), done.end(), 0);
   queue.push(1, 7.0);
-  value[1] = 7.0;
-  const int32_t e = queue.front(live);
-  ASSERT_GE(e, 0);
-  EXPECT_EQ(queue.pop(e), 1);
-  done[1] = 1;
-  EXPECT_LT(queue.front(live), 0);
+  queue.push(2, 6.0);
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{2, 1}));
+  EXPECT_LT(queue.front(), 0);
+}
+
+TEST(BucketQueue, WithinABucketTheLastPushedComesFirst) {
+  // Keys 1e-6 relative apart share a bucket: their order is the reverse push order, a
+  // moved vertex counting as pushed when moved.
+  BucketQueue queue(4);
+  for (int v = 0; v < 4; ++v) queue.push(v, 1.0 + 1e-6 * v);
+  queue.push(1, 1.0 + 0.5e-6);
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{1, 3, 2, 0}));
 }
 
 TEST(BucketQueue, KeysFarAboveTheFrontWaitTheirTurn) {
   // Keys 2^40 apart cannot share the ring of buckets: they wait in the overflow.
-  BucketQueue queue(8);
-  std::vector<double> value = {1.0, std::ldexp(1.0, 40), 1.5, std::ldexp(1.0, 20)};
-  std::vector<char> done(4, 0);
-  auto live = [&](int32_t v) { return !done[v]; };
+  BucketQueue queue(4);
+  const std::vector<double> value = {1.0, std::ldexp(1.0, 40), 1.5, std::ldexp(1.0, 20)};
   for (int v = 0; v < 4; ++v) queue.push(v, value[v]);
-  std::vector<double> popped;
-  for (int32_t e = queue.front(live); e >= 0; e = queue.front(live)) {
-    const int32_t v = queue.pop(e);
-    done[v] = 1;
-    popped.push_back(value[v]);
-  }
-  EXPECT_EQ(popped, (std::vector<double>{1.0, 1.5, std::ldexp(1.0, 20), std::ldexp(1.0, 40)}));
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{0, 2, 3, 1}));
+}
+
+TEST(BucketQueue, AVertexLoweredOutOfOrWithinTheOverflowComesOutOnceInOrder) {
+  // From a front at 1.0 the ring holds keys below 4.0.
+  BucketQueue queue(6);
+  queue.push(0, 1.0);
+  queue.push(1, 5.0);  // overflow
+  queue.push(1, 3.0);  // lowered into the ring: its overflow entry is stale
+  queue.push(2, 4.0);  // overflow, taken in with 1 still in the ring
+  queue.push(4, 2.0);
+  queue.push(3, std::ldexp(1.0, 50));  // overflow
+  queue.push(5, std::ldexp(1.0, 40));  // overflow
+  queue.push(5, std::ldexp(1.0, 35));  // lowered within the overflow
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{0, 4, 1, 2, 5, 3}));
+  // Entries left in the overflow by a clear() do not come back.
+  queue.push(0, 1.0);
+  queue.push(1, 1e9);
+  queue.clear();
+  queue.push(3, 2.0);
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{3}));
 }
 
 }  // namespace

@@ -125,7 +125,7 @@ inline void triangle_updates(const Update& g, const double* u, const double* rho
 }  // namespace
 
 FastMarching::FastMarching(const FastMarchingStencils& stencils)
-    : stencils_(stencils), queue_(2 * static_cast<size_t>(stencils.mesh().num_vertices()) + 64) {
+    : stencils_(stencils), queue_(static_cast<size_t>(stencils.mesh().num_vertices())) {
   const int nv = stencils.mesh().num_vertices();
   // One more entry for the sentinel that unused update slots name: never final, never
   // reached; the march reads its density too (the value never matters).
@@ -152,10 +152,6 @@ inline void FastMarching::push_or_decrease(int v, double value) {
   __builtin_prefetch(records + 64);
   __builtin_prefetch(records + 128);
   __builtin_prefetch(records + 192);
-}
-
-int32_t FastMarching::front() {
-  return queue_.front([this](int32_t v) { return state_[v] != kFinal; });
 }
 
 void FastMarching::reset() {
@@ -203,12 +199,11 @@ bool FastMarching::is_ring_final(int v) const {
   return true;
 }
 
-// Makes the vertex of queue entry `entry` final and updates its neighbours from it;
-// returns it.
-inline int FastMarching::accept(int32_t entry, const double* rho) {
+// Makes x, the queue's front, final and updates its neighbours from it.
+inline void FastMarching::accept(int x, const double* rho) {
   double* const u = u_.data();
   const uint8_t* const state = state_.data();
-  const int x = queue_.pop(entry);
+  queue_.pop(x);
   state_[x] = kFinal;
   accepted_[num_final_] = x;
   order_[x] = num_final_++;
@@ -230,15 +225,14 @@ inline int FastMarching::accept(int32_t entry, const double* rho) {
     best = std::max(best, ux);
     if (best < u[c]) push_or_decrease(c, best);
   }
-  return x;
 }
 
 void FastMarching::march(const double* density, int source, int stop_vertex) {
   reset();
   push_or_decrease(source, 0.0);
   bool stop_reached = false;
-  for (int32_t entry = front(); entry >= 0; entry = front()) {
-    const int x = accept(entry, density);
+  for (int x = queue_.front(); x >= 0; x = queue_.front()) {
+    accept(x, density);
     if (x == stop_vertex) stop_reached = true;
     if (stop_reached && is_ring_final(stop_vertex)) break;
   }

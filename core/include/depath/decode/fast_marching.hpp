@@ -106,11 +106,10 @@ class FastMarching {
  private:
   // `density` has num_vertices() + 1 entries (the sentinel's last; never used as a cost).
   void march(const double* density, int source, int stop_vertex);
-  int accept(int32_t entry, const double* density);
+  void accept(int x, const double* density);
   bool is_ring_final(int v) const;
   void reset();
   void push_or_decrease(int v, double value);
-  int32_t front();
 
   const FastMarchingStencils& stencils_;
   std::vector<double> u_;  // one per vertex, then the sentinel's (+inf)
@@ -119,7 +118,7 @@ class FastMarching {
   std::vector<int32_t> accepted_;  // final vertices in acceptance order
   std::vector<int32_t> touched_;   // every vertex given a finite value this run
   std::vector<double> rho_;        // the run's densities, then the sentinel's (0)
-  BucketQueue queue_;              // tentative vertices (entries of stale values included)
+  BucketQueue queue_;              // the tentative vertices
   int num_final_ = 0;
 };
 

@@ -73,10 +73,11 @@ class BucketQueue {
 
  private:
   // A bucket is a key's bits without its low 52 - 12 mantissa bits (non-negative doubles
-  // order as their bit patterns); kBuckets consecutive buckets (two binades) are held in a
-  // ring, later keys wait in overflow_.
+  // order as their bit patterns); kBuckets consecutive buckets (four binades) are held in a
+  // ring, later keys wait in overflow_. Four rather than two: on the 41x41 grid's DE trials
+  // a tenth of the pops went through the overflow's heap, and the march was 1.07x slower.
   static constexpr int kMantissaBits = 12;
-  static constexpr uint32_t kBuckets = 1u << 13;
+  static constexpr uint32_t kBuckets = 1u << 14;
   static constexpr uint32_t kMask = kBuckets - 1;
   static uint64_t bucket_of(double key) { return std::bit_cast<uint64_t>(key) >> (52 - kMantissaBits); }
 
@@ -110,7 +111,7 @@ class BucketQueue {
   std::vector<int32_t> next_, prev_;  // list nodes: vertices, then the ring's heads
   std::vector<uint64_t> bits_;        // slots of the ring that may hold vertices
   uint64_t current_ = 0;              // the bucket at the front
-  // Keys more than two binades above the front: (bucket, serial, vertex), a min-heap. An
+  // Keys more than four binades above the front: (bucket, serial, vertex), a min-heap. An
   // entry is live while its serial is its vertex's deferred_ and the vertex is unlisted;
   // a vertex lowered or popped since leaves a stale entry, dropped when it comes up.
   std::vector<std::tuple<uint64_t, int32_t, int32_t>> overflow_;

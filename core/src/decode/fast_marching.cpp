@@ -130,18 +130,13 @@ FastMarching::FastMarching(const FastMarchingStencils& stencils)
   // One more entry for the sentinel that unused update slots name: never final, never
   // reached; the march reads its density too (the value never matters).
   u_.assign(nv + 1, std::numeric_limits<double>::infinity());
-  state_.assign(nv + 1, kFar);
+  state_.assign(nv + 1, kOpen);
   rho_.assign(nv + 1, 0.0);
   order_.assign(nv, INT32_MAX);
   accepted_.assign(nv, 0);
-  touched_.reserve(nv);
 }
 
 inline void FastMarching::push_or_decrease(int v, double value) {
-  if (state_[v] == kFar) {
-    state_[v] = kTrial;
-    touched_.push_back(v);
-  }
   u_[v] = value;
   queue_.push(v, value);
   // v's records are read when it is accepted, mostly soon: start fetching them (on large
@@ -155,19 +150,21 @@ inline void FastMarching::push_or_decrease(int v, double value) {
 }
 
 void FastMarching::reset() {
+  // The vertices given a value are those made final and those still queued.
   const int nv = static_cast<int>(u_.size()) - 1;
-  if (touched_.size() * 4 > size_t(nv)) {
+  if (size_t(num_final_) * 4 > size_t(nv)) {
     std::fill(u_.begin(), u_.end(), std::numeric_limits<double>::infinity());
-    std::fill(state_.begin(), state_.end(), kFar);  // the sentinel included
+    std::fill(state_.begin(), state_.end(), kOpen);  // the sentinel included
     std::fill(order_.begin(), order_.end(), INT32_MAX);
   } else {
-    for (const int32_t v : touched_) {
+    const auto forget = [this](int32_t v) {
       u_[v] = std::numeric_limits<double>::infinity();
-      state_[v] = kFar;
+      state_[v] = kOpen;
       order_[v] = INT32_MAX;
-    }
+    };
+    std::for_each(accepted_.begin(), accepted_.begin() + num_final_, forget);
+    queue_.for_each_queued(forget);
   }
-  touched_.clear();
   queue_.clear();
   num_final_ = 0;
 }

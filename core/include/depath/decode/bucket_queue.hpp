@@ -64,6 +64,19 @@ class BucketQueue {
       if (!advance()) return -1;
     }
   }
+  /// Calls visit(vertex) for each vertex queued (some of those in the overflow more than
+  /// once, and some popped already; cost: the vertices still queued).
+  template <class Visit>
+  void for_each_queued(Visit visit) const {
+    for (size_t w = 0; w < bits_.size(); ++w) {
+      for (uint64_t m = bits_[w]; m != 0; m &= m - 1) {
+        const int32_t head = head_node(static_cast<uint32_t>(w * 64 + std::countr_zero(m)));
+        for (int32_t v = next_[head]; v != head; v = next_[v]) visit(v);
+      }
+    }
+    for (const auto& entry : overflow_) visit(std::get<2>(entry));
+  }
+
   /// Removes `vertex` = front().
   void pop(int32_t vertex) {
     unlink(vertex);

@@ -100,8 +100,8 @@ class FastMarching {
   std::span<const int32_t> accepted() const { return {accepted_.data(), size_t(num_final_)}; }
   const FastMarchingStencils& stencils() const { return stencils_; }
 
-  /// A vertex's state during a run: not reached, tentative, final.
-  static constexpr uint8_t kFar = 0, kTrial = 1, kFinal = 2;
+  /// A vertex's state during a run: not final (not reached or tentative), final.
+  static constexpr uint8_t kOpen = 0, kFinal = 1;
 
  private:
   // `density` has num_vertices() + 1 entries (the sentinel's last; never used as a cost).
@@ -116,7 +116,6 @@ class FastMarching {
   std::vector<uint8_t> state_;
   std::vector<int32_t> order_;
   std::vector<int32_t> accepted_;  // final vertices in acceptance order
-  std::vector<int32_t> touched_;   // every vertex given a finite value this run
   std::vector<double> rho_;        // the run's densities, then the sentinel's (0)
   BucketQueue queue_;              // the tentative vertices
   int num_final_ = 0;

@@ -145,5 +145,22 @@ TEST(BucketQueue, AVertexLoweredOutOfOrWithinTheOverflowComesOutOnceInOrder) {
   EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{3}));
 }
 
+TEST(BucketQueue, ClearVisitsEveryVertexStillQueued) {
+  BucketQueue queue(6);
+  queue.push(0, 1.0);
+  ASSERT_EQ(queue.front(), 0);
+  queue.pop(0);
+  queue.push(1, 1.5);
+  queue.push(2, 1.5);  // same bucket as 1
+  queue.push(3, 3.0);
+  queue.push(4, std::ldexp(1.0, 30));  // overflow
+  std::vector<int32_t> visited;
+  queue.clear([&](int32_t v) { visited.push_back(v); });
+  std::sort(visited.begin(), visited.end());
+  EXPECT_EQ(visited, (std::vector<int32_t>{1, 2, 3, 4}));
+  queue.push(5, 2.0);
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{5}));
+}
+
 }  // namespace
 }  // namespace depath

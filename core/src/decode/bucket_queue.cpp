@@ -17,31 +17,12 @@ BucketQueue::BucketQueue(std::size_t num_vertices)
   std::iota(prev_.begin(), prev_.end(), 0);
 }
 
-void BucketQueue::clear() {
-  for (size_t w = 0; w < bits_.size(); ++w) {
-    for (uint64_t m = bits_[w]; m != 0; m &= m - 1) {
-      const int32_t head = head_node(static_cast<uint32_t>(w * 64 + std::countr_zero(m)));
-      for (int32_t v = next_[head]; v != head;) {
-        const int32_t after = next_[v];
-        next_[v] = prev_[v] = v;
-        v = after;
-      }
-      next_[head] = prev_[head] = head;
-    }
-    bits_[w] = 0;
-  }
-  for (const auto& [bucket, serial, v] : overflow_) deferred_[v] = -1;
-  overflow_.clear();
-  current_ = 0;
-  next_serial_ = 0;
-}
-
 // The overflow is a min-heap on the bucket (then push order, so that entries of one bucket
 // are linked in the order they were pushed, as if they had been in the ring all along).
 void BucketQueue::defer(int32_t vertex, uint64_t bucket) {
   next_[vertex] = prev_[vertex] = vertex;
   deferred_[vertex] = next_serial_;
-  overflow_.emplace_back(bucket, next_serial_++, vertex);
+  overflow_.push_back({bucket, next_serial_++, vertex});
   std::push_heap(overflow_.begin(), overflow_.end(), std::greater<>());
 }
 
@@ -59,11 +40,11 @@ bool BucketQueue::advance() {
     if (m != 0) {
       current_ += ((w * 64 + std::countr_zero(m)) - from) & kMask;
     } else if (!overflow_.empty()) {
-      current_ = std::get<0>(overflow_.front());  // the ring is empty: move it to the overflow
+      current_ = overflow_.front().bucket;  // the ring is empty: move it to the overflow
     } else {
       return false;
     }
-    if (overflow_.empty() || std::get<0>(overflow_.front()) >= current_ + kBuckets) return true;
+    if (overflow_.empty() || overflow_.front().bucket >= current_ + kBuckets) return true;
     // Part of the overflow fits the ring now: link it, then look again.
     take_in_overflow();
   }
@@ -71,7 +52,7 @@ bool BucketQueue::advance() {
 
 // Out of line, so that advance(), called about once per vertex, saves few registers.
 void BucketQueue::take_in_overflow() {
-  while (!overflow_.empty() && std::get<0>(overflow_.front()) < current_ + kBuckets) {
+  while (!overflow_.empty() && overflow_.front().bucket < current_ + kBuckets) {
     const auto [bucket, serial, v] = overflow_.front();
     std::pop_heap(overflow_.begin(), overflow_.end(), std::greater<>());
     overflow_.pop_back();

@@ -156,6 +156,7 @@ void FastMarching::reset() {
     std::fill(u_.begin(), u_.end(), std::numeric_limits<double>::infinity());
     std::fill(state_.begin(), state_.end(), kOpen);  // the sentinel included
     std::fill(order_.begin(), order_.end(), INT32_MAX);
+    queue_.clear();
   } else {
     const auto forget = [this](int32_t v) {
       u_[v] = std::numeric_limits<double>::infinity();
@@ -163,9 +164,8 @@ void FastMarching::reset() {
       order_[v] = INT32_MAX;
     };
     std::for_each(accepted_.begin(), accepted_.begin() + num_final_, forget);
-    queue_.for_each_queued(forget);
+    queue_.clear(forget);
   }
-  queue_.clear();
   num_final_ = 0;
 }
 

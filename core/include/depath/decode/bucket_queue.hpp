@@ -24,9 +24,9 @@
 #pragma once
 
 #include <bit>
+#include <compare>
 #include <cstddef>
 #include <cstdint>
-#include <tuple>
 #include <vector>
 
 namespace depath {
@@ -36,8 +36,35 @@ class BucketQueue {
   /// An empty queue for vertices 0 .. num_vertices - 1.
   explicit BucketQueue(std::size_t num_vertices);
 
-  /// Empties the queue (cost: the vertices still queued).
-  void clear();
+  /// Empties the queue, calling visit(vertex) for each vertex still queued (some of those
+  /// in the overflow more than once, and some popped already). Cost: the vertices still
+  /// queued.
+  template <class Visit>
+  void clear(Visit visit) {
+    for (size_t w = 0; w < bits_.size(); ++w) {
+      for (uint64_t m = bits_[w]; m != 0; m &= m - 1) {
+        const int32_t head = head_node(static_cast<uint32_t>(w * 64 + std::countr_zero(m)));
+        for (int32_t v = next_[head]; v != head;) {
+          const int32_t after = next_[v];
+          visit(v);
+          next_[v] = prev_[v] = v;
+          v = after;
+        }
+        next_[head] = prev_[head] = head;
+      }
+      bits_[w] = 0;
+    }
+    for (const Deferred& d : overflow_) {
+      visit(d.vertex);
+      deferred_[d.vertex] = -1;
+    }
+    overflow_.clear();
+    current_ = 0;
+    next_serial_ = 0;
+  }
+  void clear() {
+    clear([](int32_t) {});
+  }
 
   /// Queues `vertex` with `key` >= the key last popped (a lower one is taken as that key),
   /// or moves it there if it is queued already.
@@ -64,19 +91,6 @@ class BucketQueue {
       if (!advance()) return -1;
     }
   }
-  /// Calls visit(vertex) for each vertex queued (some of those in the overflow more than
-  /// once, and some popped already; cost: the vertices still queued).
-  template <class Visit>
-  void for_each_queued(Visit visit) const {
-    for (size_t w = 0; w < bits_.size(); ++w) {
-      for (uint64_t m = bits_[w]; m != 0; m &= m - 1) {
-        const int32_t head = head_node(static_cast<uint32_t>(w * 64 + std::countr_zero(m)));
-        for (int32_t v = next_[head]; v != head; v = next_[v]) visit(v);
-      }
-    }
-    for (const auto& entry : overflow_) visit(std::get<2>(entry));
-  }
-
   /// Removes `vertex` = front().
   void pop(int32_t vertex) {
     unlink(vertex);
@@ -124,10 +138,16 @@ class BucketQueue {
   std::vector<int32_t> next_, prev_;  // list nodes: vertices, then the ring's heads
   std::vector<uint64_t> bits_;        // slots of the ring that may hold vertices
   uint64_t current_ = 0;              // the bucket at the front
-  // Keys more than four binades above the front: (bucket, serial, vertex), a min-heap. An
-  // entry is live while its serial is its vertex's deferred_ and the vertex is unlisted;
-  // a vertex lowered or popped since leaves a stale entry, dropped when it comes up.
-  std::vector<std::tuple<uint64_t, int32_t, int32_t>> overflow_;
+  // Keys more than four binades above the front, a min-heap on (bucket, serial). An entry
+  // is live while its serial is its vertex's deferred_ and the vertex is unlisted; a vertex
+  // lowered or popped since leaves a stale entry, dropped when it comes up.
+  struct Deferred {
+    uint64_t bucket;
+    int32_t serial;  // push order
+    int32_t vertex;
+    auto operator<=>(const Deferred&) const = default;
+  };
+  std::vector<Deferred> overflow_;
   std::vector<int32_t> deferred_;  // serial of each vertex's latest overflow entry, or -1
   int32_t next_serial_ = 0;
 };

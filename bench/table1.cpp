@@ -37,16 +37,20 @@
 // Usage: bench_table1 [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR]
 //                     [--strategy NAME] [--seeded] [--seed S]
 //   --rows            comma-separated row numbers (1-based, csv order) or texts matched against
-//                     "application category" (e.g. --rows 1,3 or --rows converge)
+//                     "application category", ignoring case (e.g. --rows 1,3 or --rows converge);
+//                     an item that names no row is an error
 //   --threads         evaluation threads (default 2, the setting)
 //   --max-iterations  caps every row's iterations (ratios stay per evaluation)
 //   --repeat          runs each row K times and keeps the fastest (the runs are identical)
 //   --seed            DE's seed (default 1), to see the quality column over several runs
 #include <algorithm>
+#include <charconv>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -54,6 +58,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -279,8 +284,13 @@ bool selected(const std::string& rows, int number, const PaperRow& row) {
     if (item.empty()) continue;
     if (std::all_of(item.begin(), item.end(), ::isdigit)) {
       if (std::stoi(item) == number) return true;
-    } else if (row.label().find(item) != std::string::npos) {
-      return true;
+    } else {
+      // Case-insensitive: "kitten" finds "uniform geodesic Kitten".
+      std::string label = row.label();
+      for (std::string* text : {&label, &item})
+        std::transform(text->begin(), text->end(), text->begin(),
+                       [](unsigned char ch) { return std::tolower(ch); });
+      if (label.find(item) != std::string::npos) return true;
     }
   }
   return false;
@@ -391,6 +401,18 @@ void scaling_section(const std::string& strategy) {
 
 }  // namespace
 
+// A whole positive integer option value, or exits naming the option (no silent clamping).
+int positive_option(const char* option, const char* text) {
+  int value = 0;
+  const char* end = text + std::strlen(text);
+  const auto [ptr, error] = std::from_chars(text, end, value);
+  if (error != std::errc() || ptr != end || value < 1) {
+    std::fprintf(stderr, "bench_table1: %s needs a positive whole number, got '%s'\n", option, text);
+    std::exit(2);
+  }
+  return value;
+}
+
 int main(int argc, char** argv) {
   int threads = 2, repeat = 1, max_iterations = 0;
   uint64_t seed = 1;
@@ -399,11 +421,11 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--threads" && i + 1 < argc)
-      threads = std::max(1, std::atoi(argv[++i]));
+      threads = positive_option("--threads", argv[++i]);
     else if (arg == "--rows" && i + 1 < argc)
       rows_arg = argv[++i];
     else if (arg == "--max-iterations" && i + 1 < argc)
-      max_iterations = std::max(1, std::atoi(argv[++i]));
+      max_iterations = positive_option("--max-iterations", argv[++i]);
     else if (arg == "--seeded")
       seeded = true;
     else if (arg == "--data" && i + 1 < argc)
@@ -413,7 +435,7 @@ int main(int argc, char** argv) {
     else if (arg == "--seed" && i + 1 < argc)
       seed = std::strtoull(argv[++i], nullptr, 10);
     else if (arg == "--repeat" && i + 1 < argc)
-      repeat = std::max(1, std::atoi(argv[++i]));
+      repeat = positive_option("--repeat", argv[++i]);
     else {
       std::fprintf(stderr,
                    "usage: %s [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR] "
@@ -428,6 +450,18 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::vector<PaperRow> paper = read_table1(csv);
+  // Every item of --rows must name a row: a typo would otherwise silently run less.
+  std::stringstream items(rows_arg);
+  for (std::string item; std::getline(items, item, ',');) {
+    bool found = false;
+    for (size_t k = 0; k < paper.size() && !found; ++k)
+      found = !item.empty() && selected(item, int(k) + 1, paper[k]);
+    if (!found) {
+      std::fprintf(stderr, "bench_table1: --rows item '%s' names none of the %zu rows of %s\n", item.c_str(),
+                   paper.size(), csv.c_str());
+      return 2;
+    }
+  }
   std::printf("DE-Path Table 1 (%s), re-run with %d thread(s), strategy %s, %s, fastest of %d run(s)%s\n",
               csv.c_str(), threads, strategy.c_str(),
               seeded ? "seeded with the problem" : "paper initialisation", repeat,

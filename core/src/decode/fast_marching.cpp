@@ -208,19 +208,34 @@ inline void FastMarching::accept(int x, const double* rho) {
   const double rx = rho[x];
 
   const Pair vux = splat(ux), vrx = splat(rx);
-  // Records of one target are taken one at a time (a continuation's edge candidate is
-  // +inf): the minimum over them is the same, and the loop has no inner loop whose exit
-  // the branch predictor misses (that was one misprediction per vertex on a grid).
-  for (const Update *g = stencils_.updates_begin(x), *end = stencils_.updates_end(x); g != end; ++g) {
-    const int c = g->target;
-    if (state[c] == kFinal) continue;
-    const double rc = rho[c];
-    // Straight segment from x: length times the mean density at its ends.
-    double best = ux + 0.5 * (rc + rx) * double(g->len);
-    triangle_updates(*g, u, rho, state, vux, vrx, splat(rc + rx), best);
-    // Keep acceptance order monotone (Dijkstra invariant): nothing below what is final.
-    best = std::max(best, ux);
-    if (best < u[c]) push_or_decrease(c, best);
+  // Two passes over x's records: first every candidate value, then the pushes. The push
+  // test is the branch the predictor misses most, and it waits on the longest chain (two
+  // square roots and a division); taken in the first loop, each miss threw away the
+  // records after it that were in flight. Pushing cannot change what the first pass reads:
+  // it reads final supports only, and pushes touch vertices that are not final.
+  constexpr int kChunk = 16;
+  double best[kChunk];
+  int32_t target[kChunk];
+  const Update* g = stencils_.updates_begin(x);
+  const Update* const end = stencils_.updates_end(x);
+  while (g != end) {
+    const Update* const chunk_end = end - g > kChunk ? g + kChunk : end;
+    int n = 0;
+    for (; g != chunk_end; ++g) {
+      const int c = g->target;
+      if (state[c] == kFinal) continue;
+      __builtin_prefetch(&u[c]);  // the push test reads it (a cache miss on large meshes)
+      const double rc = rho[c];
+      // Straight segment from x: length times the mean density at its ends.
+      double b = ux + 0.5 * (rc + rx) * double(g->len);
+      triangle_updates(*g, u, rho, state, vux, vrx, splat(rc + rx), b);
+      // Keep acceptance order monotone (Dijkstra invariant): nothing below what is final.
+      best[n] = std::max(b, ux);
+      target[n++] = c;
+    }
+    for (int i = 0; i < n; ++i) {
+      if (best[i] < u[target[i]]) push_or_decrease(target[i], best[i]);
+    }
   }
 }
 

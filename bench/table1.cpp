@@ -276,24 +276,39 @@ std::string quality(const Experiment& e, const SolveResult& r) {
   return text;
 }
 
-bool selected(const std::string& rows, int number, const PaperRow& row) {
-  if (rows.empty()) return true;
-  std::stringstream in(rows);
-  std::string item;
-  while (std::getline(in, item, ',')) {
-    if (item.empty()) continue;
-    if (std::all_of(item.begin(), item.end(), ::isdigit)) {
-      if (std::stoi(item) == number) return true;
-    } else {
-      // Case-insensitive: "kitten" finds "uniform geodesic Kitten".
-      std::string label = row.label();
-      for (std::string* text : {&label, &item})
-        std::transform(text->begin(), text->end(), text->begin(),
-                       [](unsigned char ch) { return std::tolower(ch); });
-      if (label.find(item) != std::string::npos) return true;
+// Whether one --rows item names row `number`: the number itself, or words of its label in
+// any case ("kitten" finds "uniform geodesic Kitten").
+bool names_row(const std::string& item, int number, const PaperRow& row) {
+  if (std::all_of(item.begin(), item.end(), [](unsigned char ch) { return std::isdigit(ch); })) {
+    int value = 0;
+    const auto [ptr, error] = std::from_chars(item.data(), item.data() + item.size(), value);
+    return error == std::errc() && value == number;  // too large for an int names no row
+  }
+  std::string label = row.label(), words = item;
+  for (std::string* text : {&label, &words})
+    std::transform(text->begin(), text->end(), text->begin(),
+                   [](unsigned char ch) { return std::tolower(ch); });
+  return label.find(words) != std::string::npos;
+}
+
+// The rows --rows LIST picks (all of them for no list), or exits naming an item that picks
+// none: a typo would otherwise silently run less.
+std::vector<bool> pick_rows(const std::string& list, const std::vector<PaperRow>& paper,
+                            const std::string& csv) {
+  std::vector<bool> picked(paper.size(), list.empty());
+  std::stringstream in(list);
+  for (std::string item; std::getline(in, item, ',');) {
+    bool found = false;
+    for (size_t k = 0; k < paper.size(); ++k) {
+      if (!item.empty() && names_row(item, int(k) + 1, paper[k])) picked[k] = found = true;
+    }
+    if (!found) {
+      std::fprintf(stderr, "bench_table1: --rows item '%s' (of '%s') names none of the %zu rows of %s\n",
+                   item.c_str(), list.c_str(), paper.size(), csv.c_str());
+      std::exit(2);
     }
   }
-  return false;
+  return picked;
 }
 
 struct Throughput {
@@ -399,19 +414,26 @@ void scaling_section(const std::string& strategy) {
       one.cores_used, two.cores_used);
 }
 
-}  // namespace
-
-// A whole positive integer option value, or exits naming the option (no silent clamping).
-int positive_option(const char* option, const char* text) {
-  int value = 0;
+// A whole-number option value of at least `least`, or exits naming the option (no silent
+// clamping, and "2x" or "abc" are not read as 2 or 0).
+template <class T>
+T whole_option(const char* option, const char* text, T least) {
+  T value{};
   const char* end = text + std::strlen(text);
   const auto [ptr, error] = std::from_chars(text, end, value);
-  if (error != std::errc() || ptr != end || value < 1) {
-    std::fprintf(stderr, "bench_table1: %s needs a positive whole number, got '%s'\n", option, text);
+  if (error == std::errc::result_out_of_range) {
+    std::fprintf(stderr, "bench_table1: %s value '%s' is too large\n", option, text);
+    std::exit(2);
+  }
+  if (error != std::errc() || ptr != end || value < least) {
+    std::fprintf(stderr, "bench_table1: %s needs a whole number of at least %llu, got '%s'\n", option,
+                 static_cast<unsigned long long>(least), text);
     std::exit(2);
   }
   return value;
 }
+
+}  // namespace
 
 int main(int argc, char** argv) {
   int threads = 2, repeat = 1, max_iterations = 0;
@@ -421,11 +443,11 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--threads" && i + 1 < argc)
-      threads = positive_option("--threads", argv[++i]);
+      threads = whole_option("--threads", argv[++i], 1);
     else if (arg == "--rows" && i + 1 < argc)
       rows_arg = argv[++i];
     else if (arg == "--max-iterations" && i + 1 < argc)
-      max_iterations = positive_option("--max-iterations", argv[++i]);
+      max_iterations = whole_option("--max-iterations", argv[++i], 1);
     else if (arg == "--seeded")
       seeded = true;
     else if (arg == "--data" && i + 1 < argc)
@@ -433,9 +455,9 @@ int main(int argc, char** argv) {
     else if (arg == "--strategy" && i + 1 < argc)
       strategy = argv[++i];
     else if (arg == "--seed" && i + 1 < argc)
-      seed = std::strtoull(argv[++i], nullptr, 10);
+      seed = whole_option<uint64_t>("--seed", argv[++i], 0);
     else if (arg == "--repeat" && i + 1 < argc)
-      repeat = positive_option("--repeat", argv[++i]);
+      repeat = whole_option("--repeat", argv[++i], 1);
     else {
       std::fprintf(stderr,
                    "usage: %s [--rows LIST] [--threads T] [--max-iterations K] [--repeat K] [--data DIR] "
@@ -450,18 +472,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   const std::vector<PaperRow> paper = read_table1(csv);
-  // Every item of --rows must name a row: a typo would otherwise silently run less.
-  std::stringstream items(rows_arg);
-  for (std::string item; std::getline(items, item, ',');) {
-    bool found = false;
-    for (size_t k = 0; k < paper.size() && !found; ++k)
-      found = !item.empty() && selected(item, int(k) + 1, paper[k]);
-    if (!found) {
-      std::fprintf(stderr, "bench_table1: --rows item '%s' names none of the %zu rows of %s\n", item.c_str(),
-                   paper.size(), csv.c_str());
-      return 2;
-    }
-  }
+  const std::vector<bool> picked = pick_rows(rows_arg, paper, csv);
   std::printf("DE-Path Table 1 (%s), re-run with %d thread(s), strategy %s, %s, fastest of %d run(s)%s\n",
               csv.c_str(), threads, strategy.c_str(),
               seeded ? "seeded with the problem" : "paper initialisation", repeat,
@@ -478,7 +489,7 @@ int main(int argc, char** argv) {
   int number = 0;
   for (const PaperRow& row : paper) {
     ++number;
-    if (!selected(rows_arg, number, row)) continue;
+    if (!picked[number - 1]) continue;
     try {
       Experiment e = make_experiment(row, data);
       JobSpec job = e.job;

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
+# bench_table1 refuses bad options with exit code 2 and a message naming the problem,
+# instead of clamping them or running some other set of rows.
+#   table1_options_test.sh BENCH_TABLE1_BINARY
+set -uo pipefail
+bench="$1"
+passed=0
+failed=0
+
+# expect NAME EXIT_CODE TEXT -- command...: checks the exit code and that stdout+stderr contain TEXT.
+# A refused option ends at once; 60 s bounds a regression that runs the table instead.
+expect() {
+  local name="$1" code="$2" text="$3"
+  shift 4
+  local out rc
+  out="$(timeout 60 "$@" 2>&1)"
+  rc=$?
+  if [ "$rc" -eq "$code" ] && grep -qF -- "$text" <<<"$out"; then
+    passed=$((passed + 1))
+  else
+    failed=$((failed + 1))
+    echo "FAILED: $name (exit $rc, expected $code; wanted '$text')"
+    echo "$out" | head -5 | sed 's/^/    /'
+  fi
+}
+
+expect "threads 0" 2 "--threads needs a whole number of at least 1, got '0'" -- "$bench" --threads 0
+expect "threads with a suffix" 2 "got '2x'" -- "$bench" --threads 2x
+expect "negative iterations" 2 "--max-iterations needs a whole number of at least 1, got '-3'" -- \
+  "$bench" --max-iterations -3
+expect "iterations beyond int" 2 "--max-iterations value '99999999999' is too large" -- \
+  "$bench" --max-iterations 99999999999
+expect "repeat empty" 2 "--repeat needs a whole number" -- "$bench" --repeat ""
+expect "seed not a number" 2 "--seed needs a whole number of at least 0, got 'abc'" -- "$bench" --seed abc
+expect "seed negative" 2 "got '-1'" -- "$bench" --seed -1
+expect "unknown option" 2 "usage:" -- "$bench" --nosuch
+
+# --rows is checked against the paper's table, which is shared data.
+if "$bench" --rows 1 --max-iterations 1 --threads 1 2>&1 | grep -q "shared data absent"; then
+  echo "skipped the --rows checks: ../shared/data/paper/table1.csv is absent"
+else
+  expect "row number too large for an int" 2 "--rows item '99999999999'" -- "$bench" --rows 99999999999
+  expect "row number past the table" 2 "names none of the 12 rows" -- "$bench" --rows 13
+  expect "empty item" 2 "--rows item '' (of '1,,2')" -- "$bench" --rows 1,,2
+  expect "misspelt row" 2 "--rows item 'kiten'" -- "$bench" --rows 7,kiten
+  # Words match ignoring case; numbers and words mix: exactly rows 7 and 9 run.
+  out="$(timeout 120 "$bench" --rows 7,KITTEN --max-iterations 1 --threads 1 2>&1)"
+  rows="$(grep -oE '^ ?[0-9]+ ' <<<"$out" | tr -d ' ' | paste -sd, -)"
+  if [ "$rows" = "7,9" ]; then passed=$((passed + 1)); else
+    failed=$((failed + 1))
+    echo "FAILED: --rows 7,KITTEN ran rows '$rows', expected 7,9"
+  fi
+fi
+
+echo "bench_table1 options: $passed passed, $failed failed"
+[ "$failed" -eq 0 ]

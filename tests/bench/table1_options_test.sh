@@ -5,25 +5,8 @@
 #   table1_options_test.sh BENCH_TABLE1_BINARY
 set -uo pipefail
 bench="$1"
-passed=0
-failed=0
-
-# expect NAME EXIT_CODE TEXT -- command...: checks the exit code and that stdout+stderr contain TEXT.
-# A refused option ends at once; 60 s bounds a regression that runs the table instead.
-expect() {
-  local name="$1" code="$2" text="$3"
-  shift 4
-  local out rc
-  out="$(timeout 60 "$@" 2>&1)"
-  rc=$?
-  if [ "$rc" -eq "$code" ] && grep -qF -- "$text" <<<"$out"; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAILED: $name (exit $rc, expected $code; wanted '$text')"
-    echo "$out" | head -5 | sed 's/^/    /'
-  fi
-}
+source "$(dirname "$0")/../expect.sh"
+expect_timeout=60  # a refused option ends at once; this bounds a regression that runs the table
 
 expect "threads 0" 2 "--threads needs a whole number of at least 1, got '0'" -- "$bench" --threads 0
 expect "threads with a suffix" 2 "got '2x'" -- "$bench" --threads 2x

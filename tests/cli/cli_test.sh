@@ -7,24 +7,7 @@ depath="$1"
 data="$2"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-passed=0
-failed=0
-
-# expect NAME EXIT_CODE TEXT -- command...: runs it, checks the exit code and that stderr+stdout contain TEXT.
-expect() {
-  local name="$1" code="$2" text="$3"
-  shift 4
-  local out rc
-  out="$("$@" 2>&1)"
-  rc=$?
-  if [ "$rc" -eq "$code" ] && grep -qF -- "$text" <<<"$out"; then
-    passed=$((passed + 1))
-  else
-    failed=$((failed + 1))
-    echo "FAILED: $name (exit $rc, expected $code; wanted '$text')"
-    echo "$out" | head -5 | sed 's/^/    /'
-  fi
-}
+source "$(dirname "$0")/../expect.sh"
 
 cone="$data/cone.off"
 expect "fmm solve writes json" 0 "wrote $work/p.json" -- "$depath" solve "$cone" -s 0 -t 348 --method fmm --out "$work/p.json"

@@ -64,6 +64,7 @@
 
 #include "../tests/job_builders.hpp"
 #include "bench_stats.hpp"
+#include "depath/de/differential_evolution.hpp"
 #include "depath/generators/surfaces.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/io/vertex_data.hpp"
@@ -87,26 +88,32 @@ struct PaperRow {
   std::string label() const { return application + " " + category; }
 };
 
+// Throws std::runtime_error naming the file, the line and the field that is not a positive
+// number (the file is data: a malformed one gets a message, not an abort).
 std::vector<PaperRow> read_table1(const std::string& path) {
   std::ifstream csv(path);
   std::vector<PaperRow> rows;
   std::string line;
   std::getline(csv, line);  // header
-  while (std::getline(csv, line)) {
+  for (int number = 2; std::getline(csv, line); ++number) {
     if (line.empty()) continue;
     std::stringstream in(line);
     PaperRow r;
-    std::string field;
     std::getline(in, r.application, ',');
     std::getline(in, r.category, ',');
-    std::getline(in, field, ',');
-    r.vertices = std::stoi(field);
-    std::getline(in, field, ',');
-    r.agents = std::stoi(field);
-    std::getline(in, field, ',');
-    r.iterations = std::stoi(field);
-    std::getline(in, field, ',');
-    r.seconds = std::stod(field);
+    const auto positive = [&](const char* column, auto& value) {
+      std::string field;
+      std::getline(in, field, ',');
+      const char* end = field.data() + field.size();
+      const auto [ptr, error] = std::from_chars(field.data(), end, value);
+      if (error != std::errc() || ptr != end || !(value > 0))
+        throw std::runtime_error(path + " line " + std::to_string(number) + ": " + column +
+                                 " is not a positive number: '" + field + "'");
+    };
+    positive("vertices", r.vertices);
+    positive("agents", r.agents);
+    positive("iterations", r.iterations);
+    positive("seconds", r.seconds);
     rows.push_back(r);
   }
   return rows;
@@ -466,12 +473,25 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
+  const std::vector<std::string>& strategies = de_strategy_names();
+  if (std::find(strategies.begin(), strategies.end(), strategy) == strategies.end()) {
+    std::string names;
+    for (const std::string& name : strategies) names += (names.empty() ? "" : ", ") + name;
+    std::fprintf(stderr, "bench_table1: --strategy '%s' is none of: %s\n", strategy.c_str(), names.c_str());
+    return 2;
+  }
   const std::string csv = data + "/paper/table1.csv";
   if (!std::filesystem::exists(csv)) {
     std::printf("bench_table1: %s not found (shared data absent): nothing to run\n", csv.c_str());
     return 0;
   }
-  const std::vector<PaperRow> paper = read_table1(csv);
+  std::vector<PaperRow> paper;
+  try {
+    paper = read_table1(csv);
+  } catch (const std::exception& ex) {
+    std::fprintf(stderr, "bench_table1: %s\n", ex.what());
+    return 1;
+  }
   const std::vector<bool> picked = pick_rows(rows_arg, paper, csv);
   std::printf("DE-Path Table 1 (%s), re-run with %d thread(s), strategy %s, %s, fastest of %d run(s)%s\n",
               csv.c_str(), threads, strategy.c_str(),
@@ -530,7 +550,12 @@ int main(int argc, char** argv) {
   }
   if (std::isfinite(worst)) std::printf("\nslowest row: %.1fx the paper's speed (goal >= 20x)\n", worst);
   if (!rows_arg.empty()) return 0;  // selected rows only: no scaling or quality sections
-  scaling_section(strategy);
-  quality_section(data, threads, false);
+  try {
+    scaling_section(strategy);
+    quality_section(data, threads, false);
+  } catch (const std::exception& ex) {  // e.g. a malformed truth file under --data
+    std::fprintf(stderr, "bench_table1: %s\n", ex.what());
+    return 1;
+  }
   return 0;
 }

@@ -18,7 +18,6 @@ bool PathDecoder::decode(std::span<const double> density, int source, int target
 }
 
 bool PathDecoder::decode_log(std::span<const double> log_density, int source, int target, SurfacePath& out) {
-  // The densities are exponentiated lazily, only where the march reaches.
   fm_.run_log(log_density, source, target);
   return trace_steepest_descent(fm_, source, target, out);
 }

@@ -4,6 +4,7 @@ depath CLI for reference results, meshes as files and as numpy arrays.
 Binaries come from DEPATHD / DEPATH_CLI (ctest sets them), else from the repository's build/.
 Liveness bounds are multiplied by DEPATH_TEST_TIME_SCALE (sanitizer builds set it higher).
 """
+import json
 import os
 import signal
 import subprocess
@@ -62,6 +63,11 @@ class Server:
 
     def log(self):
         return self.log_path.read_text(errors="replace")
+
+    def logged(self, event):
+        """The JSON log entries of one event name (e.g. "job.checkpointed", logged at debug level)."""
+        entries = (json.loads(line) for line in self.log().splitlines() if line.startswith("{"))
+        return [e for e in entries if e.get("event") == event]
 
     def kill(self):
         """SIGKILL (a crash); stop() then reports nothing."""

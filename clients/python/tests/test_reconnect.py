@@ -116,7 +116,8 @@ def test_watch_survives_a_server_crash_and_restart(start_server, cli, tmp_path):
     cli("solve", KITTEN, "-s", 0, "-t", 320, "--population", 16, "--generations", 2000, "--strategy", "shade",
         "--seed", 5, "--threads", 2, "--out", ref_path)
     ref = json.loads(ref_path.read_text())
-    # Checkpoints every 0.2 s, and the crash comes as soon as the log shows one stored: a fixed
+    # Checkpoints every 0.2 s, and the crash comes as soon as the log shows one stored past
+    # generation 0 (a slow build's first one can hold the initial population only): a fixed
     # point in wall time (once 2.5 s) missed the whole job on a quiet machine, where the job
     # (then 1000 generations) took under 2 s; 2000 take about 3.6 s there.
     flags = ("--checkpoint-seconds", "0.2", "--log-level", "debug")
@@ -128,10 +129,14 @@ def test_watch_survives_a_server_crash_and_restart(start_server, cli, tmp_path):
         for event in job.watch(timeout=900 * TIME_SCALE):
             events.append(event)
             if (restarted is None and isinstance(event, depath.ProgressEvent)
-                    and any(e.get("job") == job.id for e in first.logged("job.checkpointed"))):
+                    and any(e.get("job") == job.id and e.get("generation", 0) >= 1
+                            for e in first.logged("job.checkpointed"))):
                 first.kill()
                 restarted = start_server(*flags, port=first.port, data_dir=first.data_dir)
     assert restarted is not None, "the job ended before the crash could happen"
+    # It went on from the stored checkpoint, not from the start (which would give the same result).
+    resumed = [e for e in restarted.logged("job.resumed") if e.get("job") == job.id]
+    assert resumed and resumed[0]["checkpoint_generation"] >= 1, restarted.log()
     seqs = [e.sequence for e in events]
     assert seqs == sorted(set(seqs))
     assert events[-1].state == "succeeded"

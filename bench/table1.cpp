@@ -57,7 +57,6 @@
 #include <fstream>
 #include <map>
 #include <optional>
-#include <random>
 #include <sstream>
 #include <string>
 #include <system_error>
@@ -293,12 +292,11 @@ double marched_share(const Experiment& e, uint64_t seed) {
   constexpr int kAgents = 16;
   const FastMarchingStencils stencils(e.mesh);
   FastMarching march(stencils);
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  DeRandom rng(seed, 0, 0);
   std::vector<double> density(e.mesh.num_vertices());
   double marched = 0.0;
   for (int k = 0; k < kAgents; ++k) {
-    for (double& d : density) d = 1.0 - unit(rng);  // (0, 1]
+    for (double& d : density) d = rng.uniform_open_closed();
     march.run(density, e.job.source, e.job.target);
     marched += march.num_final();
   }

@@ -145,6 +145,23 @@ TEST(BucketQueue, AVertexLoweredOutOfOrWithinTheOverflowComesOutOnceInOrder) {
   EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{3}));
 }
 
+TEST(BucketQueue, AKeyThatWaitedTakesItsPlaceInItsBucketAsIfPushedIntoTheRing) {
+  // Waiting lists are linked in push order when their binade reaches the ring, so within a
+  // bucket the last pushed still comes first, whether it waited or not.
+  BucketQueue queue(5);
+  queue.push(0, 1.0);
+  ASSERT_EQ(queue.front(), 0);  // the ring holds binades [1, 16)
+  queue.push(1, 100.0);                // waits (binade [64, 128))
+  queue.push(2, 100.0 * (1 + 1e-9));  // waits, same bucket as 1
+  queue.push(3, 40.0);                 // waits (binade [32, 64))
+  queue.pop(0);
+  // The ring is empty: it moves to 40's binade and takes in the binades up to 512.
+  ASSERT_EQ(queue.front(), 3);
+  queue.pop(3);
+  queue.push(4, 100.0 * (1 + 2e-9));  // straight into the ring, the same bucket again
+  EXPECT_EQ(pop_all(queue), (std::vector<int32_t>{4, 2, 1}));
+}
+
 TEST(BucketQueue, ClearVisitsEveryVertexStillQueued) {
   BucketQueue queue(6);
   queue.push(0, 1.0);

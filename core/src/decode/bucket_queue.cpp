@@ -2,7 +2,6 @@
 #include "depath/decode/bucket_queue.hpp"
 
 #include <algorithm>
-#include <functional>
 #include <numeric>
 
 namespace depath {
@@ -12,18 +11,34 @@ BucketQueue::BucketQueue(std::size_t num_vertices)
       next_(num_vertices + kBuckets),
       prev_(num_vertices + kBuckets),
       bits_(kBuckets / 64, 0),
+      words_in_use_(kBuckets / 64 / 64, 0),
+      waiting_(kBinades),
+      waiting_bits_(kBinadeWords, 0),
       deferred_(num_vertices, -1) {
   std::iota(next_.begin(), next_.end(), 0);
   std::iota(prev_.begin(), prev_.end(), 0);
 }
 
-// The overflow is a min-heap on the bucket (then push order, so that entries of one bucket
-// are linked in the order they were pushed, as if they had been in the ring all along).
 void BucketQueue::defer(int32_t vertex, uint64_t bucket) {
   next_[vertex] = prev_[vertex] = vertex;
   deferred_[vertex] = next_serial_;
-  overflow_.push_back({bucket, next_serial_++, vertex});
-  std::push_heap(overflow_.begin(), overflow_.end(), std::greater<>());
+  const uint64_t binade = binade_of(bucket);  // >= the ring's first binade + kRingBinades
+  waiting_[binade].push_back({bucket, next_serial_++, vertex});
+  waiting_bits_[binade >> 6] |= uint64_t{1} << (binade & 63);
+  // Due once the front's binade is within kRingBinades - 1 below it.
+  take_in_from_ = std::min(take_in_from_, (binade - (kRingBinades - 1)) << kMantissaBits);
+}
+
+int32_t BucketQueue::next_word_in_use(uint32_t w) {
+  for (uint32_t k = w >> 6; k < words_in_use_.size(); ++k) {
+    uint64_t m = words_in_use_[k] & (k == w >> 6 ? ~uint64_t{0} << (w & 63) : ~uint64_t{0});
+    for (; m != 0; m &= m - 1) {
+      const uint32_t word = k * 64 + std::countr_zero(m);
+      if (bits_[word] != 0) return static_cast<int32_t>(word);
+      words_in_use_[k] &= ~(uint64_t{1} << (word & 63));  // emptied by front()
+    }
+  }
+  return -1;
 }
 
 bool BucketQueue::advance() {
@@ -33,33 +48,50 @@ bool BucketQueue::advance() {
     const uint32_t from = static_cast<uint32_t>(current_) & kMask;
     uint32_t w = from >> 6;
     uint64_t m = bits_[w] & (~uint64_t{0} << (from & 63));
-    for (uint32_t k = 0; m == 0 && k < words; ++k) {
-      w = (w + 1) % words;
-      m = bits_[w];
+    if (m == 0) {
+      int32_t next = w + 1 < words ? next_word_in_use(w + 1) : -1;
+      if (next < 0) next = next_word_in_use(0);  // round the ring (at most back to w)
+      if (next >= 0) {
+        w = static_cast<uint32_t>(next);
+        m = bits_[w];
+      }
     }
     if (m != 0) {
       current_ += ((w * 64 + std::countr_zero(m)) - from) & kMask;
-    } else if (!overflow_.empty()) {
-      current_ = overflow_.front().bucket;  // the ring is empty: move it to the overflow
+    } else if (take_in_from_ != kNever) {
+      // The ring is empty: move it to the first binade that has waiting vertices.
+      current_ = (binade_of(take_in_from_) + (kRingBinades - 1)) << kMantissaBits;
     } else {
       return false;
     }
-    if (overflow_.empty() || overflow_.front().bucket >= current_ + kBuckets) return true;
-    // Part of the overflow fits the ring now: link it, then look again.
+    if (current_ < take_in_from_) return true;
+    // A waiting binade is within the ring now: link it, then look again.
     take_in_overflow();
   }
 }
 
 // Out of line, so that advance(), called about once per vertex, saves few registers.
 void BucketQueue::take_in_overflow() {
-  while (!overflow_.empty() && overflow_.front().bucket < current_ + kBuckets) {
-    const auto [bucket, serial, v] = overflow_.front();
-    std::pop_heap(overflow_.begin(), overflow_.end(), std::greater<>());
-    overflow_.pop_back();
-    // Stale if deferred again since, popped (deferred_ moved on) or lowered into the ring.
-    if (deferred_[v] != serial || next_[v] != v) continue;
-    deferred_[v] = -1;
-    link(v, bucket);
+  const uint64_t end = binade_of(current_) + kRingBinades;  // binades the ring holds end here
+  uint64_t binade = binade_of(take_in_from_) + (kRingBinades - 1);
+  take_in_from_ = kNever;
+  for (uint32_t w = static_cast<uint32_t>(binade >> 6); w < kBinadeWords; ++w) {
+    for (uint64_t m = waiting_bits_[w]; m != 0; m &= m - 1) {
+      binade = w * 64 + std::countr_zero(m);
+      if (binade >= end) {
+        take_in_from_ = (binade - (kRingBinades - 1)) << kMantissaBits;
+        return;
+      }
+      std::vector<Deferred>& waiting = waiting_[binade];
+      for (const auto& [bucket, serial, v] : waiting) {
+        // Stale if deferred again since, popped (deferred_ moved on) or lowered into the ring.
+        if (deferred_[v] != serial || next_[v] != v) continue;
+        deferred_[v] = -1;
+        link(v, bucket);
+      }
+      waiting.clear();
+      waiting_bits_[w] &= ~(uint64_t{1} << (binade & 63));
+    }
   }
 }
 

@@ -20,11 +20,12 @@
 // Reference: L. Yatziv, A. Bartesaghi, G. Sapiro, "O(N) implementation of the fast marching
 // algorithm", J. Comput. Phys. 212 (2006) — the untidy priority queue (there with buckets of
 // fixed width; keyed by the bits of a double here, so one queue suits densities that span
-// many orders of magnitude).
+// many orders of magnitude). Keys beyond the ring's four binades wait in one unsorted list
+// per binade, linked in push order when their binade reaches the ring: no heap anywhere.
 #pragma once
 
+#include <algorithm>
 #include <bit>
-#include <compare>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -54,11 +55,19 @@ class BucketQueue {
       }
       bits_[w] = 0;
     }
-    for (const Deferred& d : overflow_) {
-      visit(d.vertex);
-      deferred_[d.vertex] = -1;
+    std::fill(words_in_use_.begin(), words_in_use_.end(), 0);
+    for (uint32_t w = 0; w < kBinadeWords; ++w) {
+      for (uint64_t m = waiting_bits_[w]; m != 0; m &= m - 1) {
+        std::vector<Deferred>& waiting = waiting_[w * 64 + std::countr_zero(m)];
+        for (const Deferred& d : waiting) {
+          visit(d.vertex);
+          deferred_[d.vertex] = -1;
+        }
+        waiting.clear();
+      }
+      waiting_bits_[w] = 0;
     }
-    overflow_.clear();
+    take_in_from_ = kNever;
     current_ = 0;
     next_serial_ = 0;
   }
@@ -72,7 +81,7 @@ class BucketQueue {
     unlink(vertex);  // a vertex not in the ring links to itself: no effect
     uint64_t b = bucket_of(key);
     b = b < current_ ? current_ : b;
-    if (b >= current_ + kBuckets) [[unlikely]] {
+    if (binade_of(b) >= binade_of(current_) + kRingBinades) [[unlikely]] {
       defer(vertex, b);
       return;
     }
@@ -100,13 +109,20 @@ class BucketQueue {
 
  private:
   // A bucket is a key's bits without its low 52 - 12 mantissa bits (non-negative doubles
-  // order as their bit patterns); kBuckets consecutive buckets (four binades) are held in a
-  // ring, later keys wait in overflow_. Four rather than two: on the 41x41 grid's DE trials
-  // a tenth of the pops went through the overflow's heap, and the march was 1.07x slower.
+  // order as their bit patterns), a binade 2^12 consecutive buckets. The ring holds the
+  // binade of the front and the three above it (a bucket's slot is its low 14 bits); keys
+  // in later binades wait in overflow lists, one per binade. Four binades rather than two:
+  // on the 41x41 grid's DE trials a tenth of the pops went through the overflow (then a
+  // heap), and the march was 1.07x slower.
   static constexpr int kMantissaBits = 12;
-  static constexpr uint32_t kBuckets = 1u << 14;
+  static constexpr uint32_t kRingBinades = 4;
+  static constexpr uint32_t kBuckets = kRingBinades << kMantissaBits;
   static constexpr uint32_t kMask = kBuckets - 1;
+  static constexpr uint32_t kBinades = 1u << 11;  // the exponents of a double
+  static constexpr uint32_t kBinadeWords = kBinades / 64;
+  static constexpr uint64_t kNever = ~uint64_t{0};
   static uint64_t bucket_of(double key) { return std::bit_cast<uint64_t>(key) >> (52 - kMantissaBits); }
+  static uint64_t binade_of(uint64_t bucket) { return bucket >> kMantissaBits; }
 
   // The list nodes: one per vertex, then one head per slot of the ring (its list is
   // circular through the head; an empty slot's head and an unlisted vertex link to
@@ -126,29 +142,40 @@ class BucketQueue {
     prev_[first] = vertex;
     next_[head] = vertex;
     bits_[slot >> 6] |= uint64_t{1} << (slot & 63);
+    words_in_use_[slot >> 12] |= uint64_t{1} << ((slot >> 6) & 63);
   }
   void defer(int32_t vertex, uint64_t bucket);
   /// Moves current_ to the next bucket in use (taking in the overflow that now fits);
   /// false when nothing is left.
   bool advance();
-  /// Links the overflow's vertices whose buckets now fall within the ring.
+  /// The first word of bits_ at or after `w` (no wrap) that is non-zero, or -1.
+  int32_t next_word_in_use(uint32_t w);
+  /// Links the waiting vertices whose binades now fall within the ring.
   [[gnu::noinline]] void take_in_overflow();
 
   int32_t num_vertices_;
   std::vector<int32_t> next_, prev_;  // list nodes: vertices, then the ring's heads
   std::vector<uint64_t> bits_;        // slots of the ring that may hold vertices
+  // Words of bits_ that may be non-zero: when DE's densities spread the keys over many
+  // binades, the ring is sparse and advance() would otherwise read hundreds of empty words.
+  std::vector<uint64_t> words_in_use_;
   uint64_t current_ = 0;              // the bucket at the front
-  // Keys more than four binades above the front, a min-heap on (bucket, serial). An entry
-  // is live while its serial is its vertex's deferred_ and the vertex is unlisted; a vertex
-  // lowered or popped since leaves a stale entry, dropped when it comes up.
+  // Keys in binades past the ring's, appended in push order to their binade's list (so that
+  // when linked in that order, each first in its bucket, a bucket's vertices come out last
+  // pushed first, as if they had been in the ring all along). An entry is live while its
+  // serial is its vertex's deferred_ and the vertex is unlisted; a vertex lowered or popped
+  // since leaves a stale entry, dropped when its binade is taken in. A heap here (ordered by
+  // bucket) cost a third of late DE generations' marches: their densities span so many
+  // binades that most pushes wait.
   struct Deferred {
     uint64_t bucket;
     int32_t serial;  // push order
     int32_t vertex;
-    auto operator<=>(const Deferred&) const = default;
   };
-  std::vector<Deferred> overflow_;
-  std::vector<int32_t> deferred_;  // serial of each vertex's latest overflow entry, or -1
+  std::vector<std::vector<Deferred>> waiting_;  // one list per binade
+  std::vector<uint64_t> waiting_bits_;          // binades whose list is not empty
+  uint64_t take_in_from_ = kNever;  // the first bucket whose binade brings a list into the ring
+  std::vector<int32_t> deferred_;   // serial of each vertex's latest overflow entry, or -1
   int32_t next_serial_ = 0;
 };
 

@@ -133,7 +133,10 @@ try {
     await page.goto(`${server.base}/jobs/${id}`);
     await page.waitForFunction(() => document.querySelector('#job-state').textContent === 'succeeded', null, { timeout: bound(60000) });
     await page.waitForSelector('#view[data-path-final="true"]', { timeout: bound(20000) });
-    assert.equal(await page.isVisible('#field-toggle'), true, 'no visible field checkbox');
+    // The checkbox appears once the mesh has loaded, which can be after the path of a job that
+    // had already finished when the page opened.
+    await page.waitForSelector('#field-toggle', { state: 'visible', timeout: bound(20000) })
+      .catch(() => assert.fail('no visible field checkbox'));
     assert.equal(await page.isChecked('#field-toggle'), true, 'the overlay starts shown');
     // Pixels of the overlay's colour (unlit lines: exact, up to antialiasing) on the 3D canvas.
     const fieldPixels = () => page.evaluate(() => new Promise((resolve) => {

@@ -109,6 +109,20 @@ TEST(FastMarching, EarlyStopKeepsTheTargetValueAndItsRing) {
   }
 }
 
+TEST(FastMarching, CountsTheVerticesItsRunsMakeFinal) {
+  // The process-wide count the Table 1 benchmark reads: every run adds what it made final.
+  const Mesh mesh = test::make_icosphere(3);
+  const FastMarchingStencils stencils(mesh);
+  FastMarching march(stencils);
+  const std::vector<double> rho(mesh.num_vertices(), 1.0);
+  const uint64_t before = FastMarching::vertices_made_final();
+  march.run(rho, 0, 100);
+  const int early = march.num_final();
+  march.run(rho, 0);
+  EXPECT_LT(early, mesh.num_vertices());
+  EXPECT_EQ(FastMarching::vertices_made_final() - before, uint64_t(early) + uint64_t(mesh.num_vertices()));
+}
+
 TEST(FastMarching, EveryVertexHasAnEarlierNeighbourNotAbove) {
   const Mesh mesh = test::make_icosphere(3);
   const FastMarchingStencils stencils(mesh);

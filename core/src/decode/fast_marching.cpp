@@ -4,6 +4,7 @@
 #include "decode/log_densities.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -15,6 +16,8 @@
 
 namespace depath {
 namespace {
+
+std::atomic<uint64_t> vertices_made_final_total{0};
 
 using Update = FastMarchingStencils::Update;
 
@@ -248,6 +251,11 @@ void FastMarching::march(const double* density, int source, int stop_vertex) {
     if (x == stop_vertex) stop_reached = true;
     if (stop_reached && is_ring_final(stop_vertex)) break;
   }
+  vertices_made_final_total.fetch_add(static_cast<uint64_t>(num_final_), std::memory_order_relaxed);
+}
+
+uint64_t FastMarching::vertices_made_final() {
+  return vertices_made_final_total.load(std::memory_order_relaxed);
 }
 
 }  // namespace depath

@@ -99,6 +99,10 @@ class FastMarching {
   /// The final vertices in acceptance order.
   std::span<const int32_t> accepted() const { return {accepted_.data(), size_t(num_final_)}; }
   const FastMarchingStencils& stencils() const { return stencils_; }
+  /// Vertices made final by every run in this process so far (all threads): lets a
+  /// benchmark report how much of the mesh a whole DE run's decodes march, which grows as
+  /// the population evolves, without a hook in the solver.
+  static uint64_t vertices_made_final();
 
   /// A vertex's state during a run: not final (not reached or tentative), final.
   static constexpr uint8_t kOpen = 0, kFinal = 1;

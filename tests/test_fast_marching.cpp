@@ -123,6 +123,25 @@ TEST(FastMarching, CountsTheVerticesItsRunsMakeFinal) {
   EXPECT_EQ(FastMarching::vertices_made_final() - before, uint64_t(early) + uint64_t(mesh.num_vertices()));
 }
 
+TEST(FastMarching, VertexOfHighDegreeUpdatesEveryNeighbour) {
+  // The apex of a 100-sector cone has more records than the march tracks by bit (its
+  // records past kMaskedRecords are tested one by one): every ring vertex must still get
+  // the straight generator from the apex, one edge long, and twice that on the next ring.
+  ConeOptions o;
+  o.rings = 4;
+  o.sectors = 100;
+  const Mesh mesh = make_cone(o);
+  const FastMarchingStencils stencils(mesh);
+  ASSERT_GT(stencils.updates_end(0) - stencils.updates_begin(0), FastMarchingStencils::kMaskedRecords);
+  FastMarching march(stencils);
+  march.run(std::vector<double>(mesh.num_vertices(), 1.0), 0);
+  const double generator = std::hypot(o.radius / o.rings, o.height / o.rings);
+  for (int j = 0; j < o.sectors; ++j) {
+    EXPECT_NEAR(march.value(cone_vertex(o, 1, j)), generator, 1e-6) << "sector " << j;
+    EXPECT_NEAR(march.value(cone_vertex(o, 2, j)), 2 * generator, 1e-6) << "sector " << j;
+  }
+}
+
 TEST(FastMarching, EveryVertexHasAnEarlierNeighbourNotAbove) {
   const Mesh mesh = test::make_icosphere(3);
   const FastMarchingStencils stencils(mesh);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <cfloat>
 #include <cmath>
 #include <cstdint>
@@ -137,6 +138,7 @@ FastMarching::FastMarching(const FastMarchingStencils& stencils)
   rho_.assign(nv + 1, 0.0);
   order_.assign(nv, INT32_MAX);
   accepted_.assign(nv, 0);
+  open_records_.assign(stencils.record_bits().begin(), stencils.record_bits().end());
 }
 
 inline void FastMarching::push_or_decrease(int v, double value) {
@@ -159,8 +161,16 @@ void FastMarching::reset() {
     std::fill(u_.begin(), u_.end(), std::numeric_limits<double>::infinity());
     std::fill(state_.begin(), state_.end(), kOpen);  // the sentinel included
     std::fill(order_.begin(), order_.end(), INT32_MAX);
+    std::copy(stencils_.record_bits().begin(), stencils_.record_bits().end(), open_records_.begin());
     queue_.clear();
   } else {
+    // Only accepted vertices clear record bits: give back what each cleared.
+    for (int i = 0; i < num_final_; ++i) {
+      const int x = accepted_[i];
+      for (auto* in = stencils_.incoming_begin(x); in != stencils_.incoming_end(x); ++in) {
+        open_records_[in->vertex] |= in->records;
+      }
+    }
     const auto forget = [this](int32_t v) {
       u_[v] = std::numeric_limits<double>::infinity();
       state_[v] = kOpen;
@@ -219,26 +229,43 @@ inline void FastMarching::accept(int x, const double* rho) {
   constexpr int kChunk = 16;
   double best[kChunk];
   int32_t target[kChunk];
-  const Update* g = stencils_.updates_begin(x);
+  // x is final now: its neighbours skip their records targeting it from here on.
+  uint64_t* const open = open_records_.data();
+  for (auto* in = stencils_.incoming_begin(x); in != stencils_.incoming_end(x); ++in) {
+    open[in->vertex] &= ~in->records;
+  }
+  const Update* const first = stencils_.updates_begin(x);
   const Update* const end = stencils_.updates_end(x);
-  while (g != end) {
-    const Update* const chunk_end = end - g > kChunk ? g + kChunk : end;
-    int n = 0;
-    for (; g != chunk_end; ++g) {
-      const int c = g->target;
-      if (state[c] == kFinal) continue;
-      __builtin_prefetch(&u[c]);  // the push test reads it (a cache miss on large meshes)
-      const double rc = rho[c];
-      // Straight segment from x: length times the mean density at its ends.
-      double b = ux + 0.5 * (rc + rx) * double(g->len);
-      triangle_updates(*g, u, rho, state, vux, vrx, splat(rc + rx), b);
-      // Keep acceptance order monotone (Dijkstra invariant): nothing below what is final.
-      best[n] = std::max(b, ux);
-      target[n++] = c;
-    }
+  const auto candidate = [&](const Update& g, int& n) {
+    const int c = g.target;
+    __builtin_prefetch(&u[c]);  // the push test reads it (a cache miss on large meshes)
+    const double rc = rho[c];
+    // Straight segment from x: length times the mean density at its ends.
+    double b = ux + 0.5 * (rc + rx) * double(g.len);
+    triangle_updates(g, u, rho, state, vux, vrx, splat(rc + rx), b);
+    // Keep acceptance order monotone (Dijkstra invariant): nothing below what is final.
+    best[n] = std::max(b, ux);
+    target[n++] = c;
+  };
+  const auto push_all = [&](int n) {
     for (int i = 0; i < n; ++i) {
       if (best[i] < u[target[i]]) push_or_decrease(target[i], best[i]);
     }
+  };
+  // The masked records whose target is not final, a chunk at a time.
+  for (uint64_t m = open[x]; m != 0;) {
+    int n = 0;
+    for (; m != 0 && n < kChunk; m &= m - 1) candidate(first[std::countr_zero(m)], n);
+    push_all(n);
+  }
+  // Records past the masked ones (vertices of very high degree): each target tested.
+  for (const Update* g = first + std::min<ptrdiff_t>(end - first, FastMarchingStencils::kMaskedRecords); g != end;) {
+    const Update* const chunk_end = end - g > kChunk ? g + kChunk : end;
+    int n = 0;
+    for (; g != chunk_end; ++g) {
+      if (state[g->target] != kFinal) candidate(*g, n);
+    }
+    push_all(n);
   }
 }
 

@@ -219,11 +219,41 @@ FastMarchingStencils::FastMarchingStencils(const Mesh& mesh) : mesh_(mesh) {
     }
   }
   offset_[nv] = static_cast<int>(updates_.size());
+  build_incoming();
   stencil_builds.fetch_add(1, std::memory_order_relaxed);
 }
 
+// For each target c, the vertices x whose first 64 records include some targeting c, with
+// those records' bits: a target's records are consecutive in x's list, so each (x, c) is one
+// run of records and one entry.
+void FastMarchingStencils::build_incoming() {
+  const int nv = mesh_.num_vertices();
+  record_bits_.assign(nv, 0);
+  in_offset_.assign(nv + 1, 0);
+  const auto runs = [this](int x, auto&& visit) {
+    const int count = std::min(offset_[x + 1] - offset_[x], kMaskedRecords);
+    const Update* g = updates_.data() + offset_[x];
+    for (int i = 0; i < count; ++i) visit(g[i].target, i, i == 0 || g[i].target != g[i - 1].target);
+  };
+  for (int x = 0; x < nv; ++x) {
+    runs(x, [&](int c, int, bool first) { in_offset_[c + 1] += first; });
+  }
+  for (int c = 0; c < nv; ++c) in_offset_[c + 1] += in_offset_[c];
+  incoming_.assign(in_offset_[nv], Incoming{});
+  std::vector<int> fill(in_offset_.begin(), in_offset_.end() - 1);
+  for (int x = 0; x < nv; ++x) {
+    runs(x, [&](int c, int i, bool first) {
+      if (first) incoming_[fill[c]++] = Incoming{x, 0};
+      incoming_[fill[c] - 1].records |= uint64_t{1} << i;
+      record_bits_[x] |= uint64_t{1} << i;
+    });
+  }
+}
+
 uint64_t FastMarchingStencils::memory_bytes() const {
-  return sizeof(*this) + offset_.capacity() * sizeof(int) + updates_.capacity() * sizeof(Update);
+  return sizeof(*this) + (offset_.capacity() + in_offset_.capacity()) * sizeof(int) +
+         updates_.capacity() * sizeof(Update) + incoming_.capacity() * sizeof(Incoming) +
+         record_bits_.capacity() * sizeof(uint64_t);
 }
 
 uint64_t FastMarchingStencils::builds() { return stencil_builds.load(std::memory_order_relaxed); }

@@ -55,14 +55,34 @@ class FastMarchingStencils {
   };
   const Update* updates_begin(int v) const { return updates_.data() + offset_[v]; }
   const Update* updates_end(int v) const { return updates_.data() + offset_[v + 1]; }
+  /// A vertex's first kMaskedRecords records are tracked by bit in a mask of those whose
+  /// target is not final yet, so that the march visits only those instead of testing each
+  /// target (a branch the predictor mostly misses on DE's random densities); the records
+  /// after them (vertices of very high degree) are tested one by one.
+  static constexpr int kMaskedRecords = 64;
+  /// The vertices with records targeting c, each with the bits of those records.
+  struct Incoming {
+    int32_t vertex;
+    uint64_t records;
+  };
+  const Incoming* incoming_begin(int c) const { return incoming_.data() + in_offset_[c]; }
+  const Incoming* incoming_end(int c) const { return incoming_.data() + in_offset_[c + 1]; }
+  /// The bits of v's masked records (all of its first kMaskedRecords).
+  uint64_t record_bits(int v) const { return record_bits_[v]; }
+  std::span<const uint64_t> record_bits() const { return record_bits_; }
   /// Number of obtuse corners that were split with a virtual edge / left unsplit.
   int num_split_corners() const { return num_split_; }
   int num_unsplit_obtuse_corners() const { return num_unsplit_; }
 
  private:
+  void build_incoming();
+
   const Mesh& mesh_;
   std::vector<int> offset_;
   std::vector<Update> updates_;
+  std::vector<int> in_offset_;
+  std::vector<Incoming> incoming_;
+  std::vector<uint64_t> record_bits_;
   int num_split_ = 0;
   int num_unsplit_ = 0;
 };
@@ -118,6 +138,7 @@ class FastMarching {
   const FastMarchingStencils& stencils_;
   std::vector<double> u_;  // one per vertex, then the sentinel's (+inf)
   std::vector<uint8_t> state_;
+  std::vector<uint64_t> open_records_;  // per vertex: its masked records whose target is not final
   std::vector<int32_t> order_;
   std::vector<int32_t> accepted_;  // final vertices in acceptance order
   std::vector<double> rho_;        // the run's densities, then the sentinel's (0)

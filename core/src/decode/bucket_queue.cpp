@@ -8,22 +8,25 @@ namespace depath {
 
 BucketQueue::BucketQueue(std::size_t num_vertices)
     : num_vertices_(static_cast<int32_t>(num_vertices)),
-      next_(num_vertices + kBuckets),
-      prev_(num_vertices + kBuckets),
+      next_(num_vertices + kBuckets + kBinades),
+      prev_(num_vertices + kBuckets + kBinades),
       bits_(kBuckets / 64, 0),
       words_in_use_(kBuckets / 64 / 64, 0),
-      waiting_(kBinades),
-      waiting_bits_(kBinadeWords, 0),
-      deferred_(num_vertices, -1) {
+      waiting_bucket_(num_vertices, 0),
+      waiting_bits_(kBinadeWords, 0) {
   std::iota(next_.begin(), next_.end(), 0);
   std::iota(prev_.begin(), prev_.end(), 0);
 }
 
 void BucketQueue::defer(int32_t vertex, uint64_t bucket) {
-  next_[vertex] = prev_[vertex] = vertex;
-  deferred_[vertex] = next_serial_;
   const uint64_t binade = binade_of(bucket);  // >= the ring's first binade + kRingBinades
-  waiting_[binade].push_back({bucket, next_serial_++, vertex});
+  waiting_bucket_[vertex] = static_cast<uint32_t>(bucket);  // 11 exponent + 12 mantissa bits
+  // Last in its binade's list.
+  const int32_t head = waiting_head(binade), last = prev_[head];
+  next_[vertex] = head;
+  prev_[vertex] = last;
+  next_[last] = vertex;
+  prev_[head] = vertex;
   waiting_bits_[binade >> 6] |= uint64_t{1} << (binade & 63);
   // Due once the front's binade is within kRingBinades - 1 below it.
   take_in_from_ = std::min(take_in_from_, (binade - (kRingBinades - 1)) << kMantissaBits);
@@ -82,14 +85,13 @@ void BucketQueue::take_in_overflow() {
         take_in_from_ = (binade - (kRingBinades - 1)) << kMantissaBits;
         return;
       }
-      std::vector<Deferred>& waiting = waiting_[binade];
-      for (const auto& [bucket, serial, v] : waiting) {
-        // Stale if deferred again since, popped (deferred_ moved on) or lowered into the ring.
-        if (deferred_[v] != serial || next_[v] != v) continue;
-        deferred_[v] = -1;
-        link(v, bucket);
+      const int32_t head = waiting_head(binade);
+      for (int32_t v = next_[head]; v != head;) {
+        const int32_t after = next_[v];
+        link(v, waiting_bucket_[v]);
+        v = after;
       }
-      waiting.clear();
+      next_[head] = prev_[head] = head;
       waiting_bits_[w] &= ~(uint64_t{1} << (binade & 63));
     }
   }

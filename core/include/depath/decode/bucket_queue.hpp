@@ -37,39 +37,34 @@ class BucketQueue {
   /// An empty queue for vertices 0 .. num_vertices - 1.
   explicit BucketQueue(std::size_t num_vertices);
 
-  /// Empties the queue, calling visit(vertex) for each vertex still queued (some of those
-  /// in the overflow more than once, and some popped already). Cost: the vertices still
-  /// queued.
+  /// Empties the queue, calling visit(vertex) once for each vertex still queued. Cost: the
+  /// vertices still queued.
   template <class Visit>
   void clear(Visit visit) {
+    const auto empty_list = [&](int32_t head) {
+      for (int32_t v = next_[head]; v != head;) {
+        const int32_t after = next_[v];
+        visit(v);
+        next_[v] = prev_[v] = v;
+        v = after;
+      }
+      next_[head] = prev_[head] = head;
+    };
     for (size_t w = 0; w < bits_.size(); ++w) {
       for (uint64_t m = bits_[w]; m != 0; m &= m - 1) {
-        const int32_t head = head_node(static_cast<uint32_t>(w * 64 + std::countr_zero(m)));
-        for (int32_t v = next_[head]; v != head;) {
-          const int32_t after = next_[v];
-          visit(v);
-          next_[v] = prev_[v] = v;
-          v = after;
-        }
-        next_[head] = prev_[head] = head;
+        empty_list(head_node(static_cast<uint32_t>(w * 64 + std::countr_zero(m))));
       }
       bits_[w] = 0;
     }
     std::fill(words_in_use_.begin(), words_in_use_.end(), 0);
     for (uint32_t w = 0; w < kBinadeWords; ++w) {
       for (uint64_t m = waiting_bits_[w]; m != 0; m &= m - 1) {
-        std::vector<Deferred>& waiting = waiting_[w * 64 + std::countr_zero(m)];
-        for (const Deferred& d : waiting) {
-          visit(d.vertex);
-          deferred_[d.vertex] = -1;
-        }
-        waiting.clear();
+        empty_list(waiting_head(w * 64 + std::countr_zero(m)));
       }
       waiting_bits_[w] = 0;
     }
     take_in_from_ = kNever;
     current_ = 0;
-    next_serial_ = 0;
   }
   void clear() {
     clear([](int32_t) {});
@@ -78,7 +73,7 @@ class BucketQueue {
   /// Queues `vertex` with `key` >= the key last popped (a lower one is taken as that key),
   /// or moves it there if it is queued already.
   void push(int32_t vertex, double key) {
-    unlink(vertex);  // a vertex not in the ring links to itself: no effect
+    unlink(vertex);  // a vertex in no list links to itself: no effect
     uint64_t b = bucket_of(key);
     b = b < current_ ? current_ : b;
     if (binade_of(b) >= binade_of(current_) + kRingBinades) [[unlikely]] {
@@ -104,7 +99,6 @@ class BucketQueue {
   void pop(int32_t vertex) {
     unlink(vertex);
     next_[vertex] = prev_[vertex] = vertex;
-    deferred_[vertex] = -1;  // an overflow entry of it, if any, is stale now
   }
 
  private:
@@ -124,10 +118,13 @@ class BucketQueue {
   static uint64_t bucket_of(double key) { return std::bit_cast<uint64_t>(key) >> (52 - kMantissaBits); }
   static uint64_t binade_of(uint64_t bucket) { return bucket >> kMantissaBits; }
 
-  // The list nodes: one per vertex, then one head per slot of the ring (its list is
-  // circular through the head; an empty slot's head and an unlisted vertex link to
-  // themselves).
+  // The list nodes: one per vertex, then one head per slot of the ring, then one per binade
+  // for the keys waiting beyond the ring (each list is circular through its head; an empty
+  // list's head and a vertex in no list link to themselves).
   int32_t head_node(uint32_t slot) const { return num_vertices_ + static_cast<int32_t>(slot); }
+  int32_t waiting_head(uint64_t binade) const {
+    return num_vertices_ + static_cast<int32_t>(kBuckets + binade);
+  }
   void unlink(int32_t node) {
     const int32_t p = prev_[node], n = next_[node];
     next_[p] = n;
@@ -154,29 +151,23 @@ class BucketQueue {
   [[gnu::noinline]] void take_in_overflow();
 
   int32_t num_vertices_;
-  std::vector<int32_t> next_, prev_;  // list nodes: vertices, then the ring's heads
+  // List nodes: vertices, then the ring's heads, then the waiting lists' heads.
+  std::vector<int32_t> next_, prev_;
   std::vector<uint64_t> bits_;        // slots of the ring that may hold vertices
   // Words of bits_ that may be non-zero: when DE's densities spread the keys over many
   // binades, the ring is sparse and advance() would otherwise read hundreds of empty words.
   std::vector<uint64_t> words_in_use_;
   uint64_t current_ = 0;              // the bucket at the front
-  // Keys in binades past the ring's, appended in push order to their binade's list (so that
-  // when linked in that order, each first in its bucket, a bucket's vertices come out last
-  // pushed first, as if they had been in the ring all along). An entry is live while its
-  // serial is its vertex's deferred_ and the vertex is unlisted; a vertex lowered or popped
-  // since leaves a stale entry, dropped when its binade is taken in. A heap here (ordered by
-  // bucket) cost a third of late DE generations' marches: their densities span so many
-  // binades that most pushes wait.
-  struct Deferred {
-    uint64_t bucket;
-    int32_t serial;  // push order
-    int32_t vertex;
-  };
-  std::vector<std::vector<Deferred>> waiting_;  // one list per binade
-  std::vector<uint64_t> waiting_bits_;          // binades whose list is not empty
+  // Keys in binades past the ring's wait in their binade's list, in push order (a vertex
+  // pushed again leaves its place and goes last), with their bucket in waiting_bucket_:
+  // linked into the ring in that order, each first in its bucket, a bucket's vertices come
+  // out last pushed first, as if they had been in the ring all along. Late in a DE run half
+  // of the pushes wait here (the evolved densities span many binades): as lists threaded
+  // through the vertices, a lowered key moves its vertex, where a vector per binade kept a
+  // stale entry for every earlier push to skip when its binade came in.
+  std::vector<uint32_t> waiting_bucket_;  // per vertex, while it waits
+  std::vector<uint64_t> waiting_bits_;    // binades whose list is not empty
   uint64_t take_in_from_ = kNever;  // the first bucket whose binade brings a list into the ring
-  std::vector<int32_t> deferred_;   // serial of each vertex's latest overflow entry, or -1
-  int32_t next_serial_ = 0;
 };
 
 }  // namespace depath

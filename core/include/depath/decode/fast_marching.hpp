@@ -67,8 +67,7 @@ class FastMarchingStencils {
   };
   const Incoming* incoming_begin(int c) const { return incoming_.data() + in_offset_[c]; }
   const Incoming* incoming_end(int c) const { return incoming_.data() + in_offset_[c + 1]; }
-  /// The bits of v's masked records (all of its first kMaskedRecords).
-  uint64_t record_bits(int v) const { return record_bits_[v]; }
+  /// Per vertex, the bits of its masked records (all of its first kMaskedRecords).
   std::span<const uint64_t> record_bits() const { return record_bits_; }
   /// Number of obtuse corners that were split with a virtual edge / left unsplit.
   int num_split_corners() const { return num_split_; }

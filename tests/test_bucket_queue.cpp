@@ -13,8 +13,7 @@
 namespace depath {
 namespace {
 
-// A bucket spans keys with the same top 12 mantissa bits: at most 2^-12 relative apart.
-constexpr double kWidth = 1.0 / 4096;
+constexpr double kWidth = BucketQueue::kRelativeWidth;
 
 // Pops until empty (or 100 pops: a broken list could cycle); returns the vertices in the
 // order popped.

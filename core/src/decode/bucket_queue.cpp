@@ -11,7 +11,7 @@ BucketQueue::BucketQueue(std::size_t num_vertices)
       next_(num_vertices + kBuckets + kBinades),
       prev_(num_vertices + kBuckets + kBinades),
       bits_(kBuckets / 64, 0),
-      words_in_use_(kBuckets / 64 / 64, 0),
+      words_in_use_((kBuckets / 64 + 63) / 64, 0),  // rounded up: a ring under 4,096 slots has one
       waiting_bucket_(num_vertices, 0),
       waiting_bits_(kBinadeWords, 0) {
   std::iota(next_.begin(), next_.end(), 0);
@@ -20,7 +20,7 @@ BucketQueue::BucketQueue(std::size_t num_vertices)
 
 void BucketQueue::defer(int32_t vertex, uint64_t bucket) {
   const uint64_t binade = binade_of(bucket);  // >= the ring's first binade + kRingBinades
-  waiting_bucket_[vertex] = static_cast<uint32_t>(bucket);  // 11 exponent + 12 mantissa bits
+  waiting_bucket_[vertex] = static_cast<uint32_t>(bucket);  // 11 exponent + kMantissaBits mantissa bits
   // Last in its binade's list.
   const int32_t head = waiting_head(binade), last = prev_[head];
   next_[vertex] = head;

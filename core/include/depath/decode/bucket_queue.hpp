@@ -4,16 +4,20 @@
 //
 // Inputs: pushes of (vertex, key), vertex in [0, num_vertices), key >= 0 and never below
 // the key last popped (fast marching's monotonicity). Outputs: the vertices in order of
-// their keys, up to a relative 2^-12: within one bucket (keys with the same top 12 mantissa
+// their keys, up to a relative 2^-8: within one bucket (keys with the same top 8 mantissa
 // bits) the last pushed comes first. Guarantees: a vertex is queued at most once (pushing
 // a queued vertex moves it to its new key's bucket); O(1) per push and per pop amortised;
 // no allocation per run. The queue keeps no keys: the caller keeps the current values.
 //
 // Why: a 4-ary heap spent a third of the march in sifting, most of it in compares the
-// branch predictor cannot learn (DE's densities are random). A bucket's width is 2.4e-4 of
-// its keys, far below the march's own first-order error (~1e-2), so accepting keys that
-// close in push order instead of key order changes a value by at most that much (measured:
-// the sum of 64 DE agents' target values moved by 3e-7 relative). Each bucket is a doubly
+// branch predictor cannot learn (DE's densities are random). A bucket's width is 3.9e-3 of
+// its keys, below the march's own first-order error (0.5-1.7% on the sphere and cylinder of
+// the tests), so accepting keys that close in push order instead of key order changes a
+// value by at most that much (measured against buckets of 2^-12 on random densities: 89-94%
+// of kitten's and dragon's values the same bits, 99% within 7.4e-4, all within 2.0e-3; the
+// tests' fmm errors and the 84 exact geodesic pairs' fmm paths unchanged). Buckets of 2^-8
+// keep the ring's heads in 8 KB, within the L1 cache; at 2^-12 (128 KB) a sparse front
+// missed it at each push and pop, and decodes and DE runs were 1.04-1.18x slower. Each bucket is a doubly
 // linked list threaded through the vertices, so a lowered key moves its vertex instead of
 // leaving a stale entry behind that the front would have to test and drop (on bimba that
 // made the march 1.08x faster: fewer lines touched, one unpredictable branch fewer).
@@ -101,14 +105,18 @@ class BucketQueue {
     next_[vertex] = prev_[vertex] = vertex;
   }
 
+  /// Keys in one bucket share their top kMantissaBits mantissa bits: they are less than
+  /// this (relative) apart, and may come out in any order.
+  static constexpr int kMantissaBits = 8;
+  static constexpr double kRelativeWidth = 1.0 / (1 << kMantissaBits);
+
  private:
-  // A bucket is a key's bits without its low 52 - 12 mantissa bits (non-negative doubles
-  // order as their bit patterns), a binade 2^12 consecutive buckets. The ring holds the
-  // binade of the front and the three above it (a bucket's slot is its low 14 bits); keys
-  // in later binades wait in overflow lists, one per binade. Four binades rather than two:
-  // on the 41x41 grid's DE trials a tenth of the pops went through the overflow (then a
-  // heap), and the march was 1.07x slower.
-  static constexpr int kMantissaBits = 12;
+  // A bucket is a key's bits without its low 52 - kMantissaBits mantissa bits (non-negative
+  // doubles order as their bit patterns), a binade 2^kMantissaBits consecutive buckets. The
+  // ring holds the binade of the front and the three above it (a bucket's slot is its low
+  // kMantissaBits + 2 bits); keys in later binades wait in overflow lists, one per binade.
+  // Four binades rather than two: on the 41x41 grid's DE trials a tenth of the pops went
+  // through the overflow (then a heap), and the march was 1.07x slower.
   static constexpr uint32_t kRingBinades = 4;
   static constexpr uint32_t kBuckets = kRingBinades << kMantissaBits;
   static constexpr uint32_t kMask = kBuckets - 1;
@@ -153,11 +161,11 @@ class BucketQueue {
   int32_t num_vertices_;
   // List nodes: vertices, then the ring's heads, then the waiting lists' heads.
   std::vector<int32_t> next_, prev_;
-  std::vector<uint64_t> bits_;        // slots of the ring that may hold vertices
+  std::vector<uint64_t> bits_;  // slots of the ring that may hold vertices
   // Words of bits_ that may be non-zero: when DE's densities spread the keys over many
   // binades, the ring is sparse and advance() would otherwise read hundreds of empty words.
   std::vector<uint64_t> words_in_use_;
-  uint64_t current_ = 0;              // the bucket at the front
+  uint64_t current_ = 0;  // the bucket at the front
   // Keys in binades past the ring's wait in their binade's list, in push order (a vertex
   // pushed again leaves its place and goes last), with their bucket in waiting_bucket_:
   // linked into the ring in that order, each first in its bucket, a bucket's vertices come
@@ -167,7 +175,7 @@ class BucketQueue {
   // stale entry for every earlier push to skip when its binade came in.
   std::vector<uint32_t> waiting_bucket_;  // per vertex, while it waits
   std::vector<uint64_t> waiting_bits_;    // binades whose list is not empty
-  uint64_t take_in_from_ = kNever;  // the first bucket whose binade brings a list into the ring
+  uint64_t take_in_from_ = kNever;        // the first bucket whose binade brings a list into the ring
 };
 
 }  // namespace depath

@@ -91,7 +91,7 @@ class FastMarchingStencils {
 /// densities at its ends). Reuses its arrays across runs: no allocation per decode.
 ///
 /// Guarantees: values are finite exactly for the vertices reached; the acceptance order
-/// is non-decreasing in u up to a relative 2^-12 (the queue's bucket width); every
+/// is non-decreasing in u up to a relative 2^-8 (the queue's bucket width); every
 /// accepted vertex other than the source has a mesh neighbour accepted before it with a
 /// value not larger than its own.
 class FastMarching {

@@ -4,12 +4,17 @@
 #include "depath/energy/energy.hpp"
 #include "depath/decode/fast_marching.hpp"
 #include "depath/decode/path_decoder.hpp"
+#include "depath/decode/trace.hpp"
+#include "depath/io/mesh_reader.hpp"
 #include "depath/generators/surfaces.hpp"
 #include "path_checks.hpp"
+#include "test_support.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
+#include <span>
 #include <vector>
 
 namespace depath {
@@ -90,23 +95,80 @@ TEST(FastMarching, ConstantDensityScalesValuesExactly) {
   for (int v = 0; v < mesh.num_vertices(); ++v) EXPECT_NEAR(fm2.value(v), 2.5 * fm1.value(v), 1e-12 * (1 + fm2.value(v)));
 }
 
-TEST(FastMarching, EarlyStopKeepsTheTargetValueAndItsRing) {
-  const Mesh mesh = test::make_icosphere(4);
+// Every vertex below the stop vertex is final with the full march's value; so is each pair
+// of its neighbours across a corner wider than a right angle of which one is (what the
+// trace's first step may read above it).
+void expect_early_stop_keeps_what_the_trace_needs(const Mesh& mesh, std::span<const double> rho, int s, int t) {
   const FastMarchingStencils stencils(mesh);
   FastMarching full(stencils), early(stencils);
-  std::vector<double> rho(mesh.num_vertices());
-  for (int v = 0; v < mesh.num_vertices(); ++v) rho[v] = 1.0 + 0.5 * std::sin(3.0 * v);
-  const int s = 0, t = 400;
   full.run(rho, s);
   early.run(rho, s, t);
-  EXPECT_EQ(full.num_final(), mesh.num_vertices());
-  EXPECT_LT(early.num_final(), mesh.num_vertices());
-  EXPECT_TRUE(early.is_final(t));
+  ASSERT_TRUE(early.is_final(t));
   EXPECT_EQ(early.value(t), full.value(t));
-  for (const int* n = mesh.vertex_neighbors_begin(t); n != mesh.vertex_neighbors_end(t); ++n) {
-    EXPECT_TRUE(early.is_final(*n));
-    EXPECT_EQ(early.value(*n), full.value(*n));
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (full.value(v) >= full.value(t)) continue;
+    EXPECT_TRUE(early.is_final(v)) << v;
+    EXPECT_EQ(early.value(v), full.value(v)) << v;
   }
+  for (const int* f = mesh.vertex_faces_begin(t); f != mesh.vertex_faces_end(t); ++f) {
+    const auto& c = mesh.face(*f);
+    const int i = mesh.corner_of(*f, t), a = c[(i + 1) % 3], b = c[(i + 2) % 3];
+    if ((mesh.position(a) - mesh.position(t)).dot(mesh.position(b) - mesh.position(t)) >= 0.0) continue;
+    EXPECT_EQ(early.is_final(a), early.is_final(b));
+    if (early.is_final(a)) {
+      EXPECT_EQ(early.value(a), full.value(a));
+      EXPECT_EQ(early.value(b), full.value(b));
+    }
+  }
+}
+
+TEST(FastMarching, EarlyStopKeepsEverythingBelowTheTarget) {
+  const Mesh mesh = test::make_icosphere(4);
+  std::vector<double> rho(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v) rho[v] = 1.0 + 0.5 * std::sin(3.0 * v);
+  expect_early_stop_keeps_what_the_trace_needs(mesh, rho, 0, 400);
+  const FastMarchingStencils stencils(mesh);
+  FastMarching early(stencils);
+  early.run(rho, 0, 400);
+  EXPECT_LT(early.num_final(), mesh.num_vertices());
+}
+
+// DE's agents: densities uniform in (0, 1] per vertex, random source and target.
+TEST(FastMarching, EarlyStopTracesTheFullMarchsPathOnRandomDensities) {
+  const Mesh kitten = load_mesh(test::test_data("kitten.off"));  // obtuse corners too
+  const Mesh grid = test::alternating_grid(41);                    // right angles
+  const Mesh sphere = test::make_icosphere(3);
+  std::mt19937_64 rng(20261207);
+  int early_total = 0, full_total = 0;
+  for (const Mesh* mesh : {&kitten, &grid, &sphere}) {
+    const FastMarchingStencils stencils(*mesh);
+    FastMarching full(stencils);
+    PathDecoder early(stencils);
+    std::uniform_int_distribution<int> vertex(0, mesh->num_vertices() - 1);
+    std::uniform_real_distribution<double> density(0.0, 1.0);
+    std::vector<double> rho(mesh->num_vertices());
+    for (int trial = 0; trial < 100; ++trial) {
+      for (double& r : rho) r = 1.0 - density(rng);  // (0, 1]
+      const int s = vertex(rng);
+      int t = vertex(rng);
+      if (t == s) t = (s + 1) % mesh->num_vertices();
+      expect_early_stop_keeps_what_the_trace_needs(*mesh, rho, s, t);
+      SurfacePath by_early, by_full;
+      ASSERT_TRUE(early.decode(rho, s, t, by_early));
+      full.run(rho, s);
+      ASSERT_TRUE(trace_steepest_descent(full, s, t, by_full));
+      ASSERT_EQ(by_early.points.size(), by_full.points.size()) << "s " << s << " t " << t;
+      for (size_t i = 0; i < by_full.points.size(); ++i) {
+        EXPECT_EQ(by_early.points[i].v0, by_full.points[i].v0);
+        EXPECT_EQ(by_early.points[i].v1, by_full.points[i].v1);
+        EXPECT_EQ(by_early.points[i].t, by_full.points[i].t);
+      }
+      EXPECT_EQ(by_early.segment_faces, by_full.segment_faces);
+      early_total += early.fast_marching().num_final();
+      full_total += full.num_final();
+    }
+  }
+  EXPECT_LT(early_total, full_total);
 }
 
 TEST(FastMarching, CountsTheVerticesItsRunsMakeFinal) {

@@ -139,6 +139,7 @@ FastMarching::FastMarching(const FastMarchingStencils& stencils)
   order_.assign(nv, INT32_MAX);
   accepted_.assign(nv, 0);
   open_records_.assign(stencils.record_bits().begin(), stencils.record_bits().end());
+  wide_corners_.reserve(16);
 }
 
 inline void FastMarching::push_or_decrease(int v, double value) {
@@ -200,13 +201,21 @@ void FastMarching::run_log(std::span<const double> log_density, int source, int 
   march(rho_.data(), source, stop_vertex);
 }
 
-bool FastMarching::is_ring_final(int v) const {
+void FastMarching::gather_wide_corners(int t) {
+  // The back-trace leaves t down an edge to a lower neighbour or across a face whose
+  // corner at t holds the descent direction. A face with a neighbour above t and one below
+  // holds it only if its corner at t is wider than a right angle (the descent direction
+  // points away from the one above); a face with both above never does (u rises into it).
   const Mesh& mesh = stencils_.mesh();
-  if (state_[v] != kFinal) return false;
-  for (const int* n = mesh.vertex_neighbors_begin(v); n != mesh.vertex_neighbors_end(v); ++n) {
-    if (state_[*n] != kFinal) return false;
+  wide_corners_.clear();
+  for (const int* f = mesh.vertex_faces_begin(t); f != mesh.vertex_faces_end(t); ++f) {
+    const auto& corners = mesh.face(*f);
+    const int c = mesh.corner_of(*f, t);
+    const int a = corners[(c + 1) % 3], b = corners[(c + 2) % 3];
+    if ((mesh.position(a) - mesh.position(t)).dot(mesh.position(b) - mesh.position(t)) < 0.0) {
+      wide_corners_.push_back({a, b});
+    }
   }
-  return true;
 }
 
 // Makes x, the queue's front, final and updates its neighbours from it.
@@ -272,11 +281,23 @@ inline void FastMarching::accept(int x, const double* rho) {
 void FastMarching::march(const double* density, int source, int stop_vertex) {
   reset();
   push_or_decrease(source, 0.0);
-  bool stop_reached = false;
-  for (int x = queue_.front(); x >= 0; x = queue_.front()) {
+  int x = queue_.front();
+  for (; x >= 0 && x != stop_vertex; x = queue_.front()) accept(x, density);
+  if (x >= 0) {
     accept(x, density);
-    if (x == stop_vertex) stop_reached = true;
-    if (stop_reached && is_ring_final(stop_vertex)) break;
+    // Go on until every vertex below the stop vertex is final: the queue is exact between
+    // buckets, so once its front is in a later bucket than the stop vertex's, whatever is
+    // still open lies above it. A face across a wide corner with one neighbour final and
+    // the other open needs that one's final value too. (Marching on until the stop
+    // vertex's whole ring was final went far into DE's walls of high density.)
+    gather_wide_corners(stop_vertex);
+    const uint64_t stop_bucket = BucketQueue::bucket_of(u_[stop_vertex]);
+    const auto done = [&](int front) {
+      return BucketQueue::bucket_of(u_[front]) > stop_bucket &&
+             std::all_of(wide_corners_.begin(), wide_corners_.end(),
+                         [&](const auto& ab) { return state_[ab[0]] == state_[ab[1]]; });
+    };
+    for (x = queue_.front(); x >= 0 && !done(x); x = queue_.front()) accept(x, density);
   }
   vertices_made_final_total.fetch_add(static_cast<uint64_t>(num_final_), std::memory_order_relaxed);
 }

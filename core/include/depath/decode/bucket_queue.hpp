@@ -109,6 +109,9 @@ class BucketQueue {
   /// this (relative) apart, and may come out in any order.
   static constexpr int kMantissaBits = 8;
   static constexpr double kRelativeWidth = 1.0 / (1 << kMantissaBits);
+  /// The bucket of a key (non-negative). Buckets come out in order: once the front is in a
+  /// later bucket than key k's, every vertex still queued has a key above k.
+  static uint64_t bucket_of(double key) { return std::bit_cast<uint64_t>(key) >> (52 - kMantissaBits); }
 
  private:
   // A bucket is a key's bits without its low 52 - kMantissaBits mantissa bits (non-negative
@@ -123,7 +126,6 @@ class BucketQueue {
   static constexpr uint32_t kBinades = 1u << 11;  // the exponents of a double
   static constexpr uint32_t kBinadeWords = kBinades / 64;
   static constexpr uint64_t kNever = ~uint64_t{0};
-  static uint64_t bucket_of(double key) { return std::bit_cast<uint64_t>(key) >> (52 - kMantissaBits); }
   static uint64_t binade_of(uint64_t bucket) { return bucket >> kMantissaBits; }
 
   // The list nodes: one per vertex, then one head per slot of the ring, then one per binade

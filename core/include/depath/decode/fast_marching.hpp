@@ -14,6 +14,7 @@
 #include "depath/decode/bucket_queue.hpp"
 #include "depath/mesh/mesh.hpp"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -98,9 +99,10 @@ class FastMarching {
  public:
   explicit FastMarching(const FastMarchingStencils& stencils);
 
-  /// Runs from `source`. If `stop_vertex` >= 0, stops as soon as it and every vertex of
-  /// its incident faces are final (what the back-trace from it needs). `density` has one
-  /// positive finite value per vertex.
+  /// Runs from `source`. If `stop_vertex` >= 0, stops once it is final, every vertex whose
+  /// value is below its own is final, and so is each pair of neighbours across a corner
+  /// wider than a right angle of which one is: what the back-trace's first step from it
+  /// reads (on random densities the traced paths are a full march's). `density` has one positive finite value per vertex.
   void run(std::span<const double> density, int source, int stop_vertex = -1);
 
   /// Same with the density given as logarithms: vertex v's density is
@@ -130,7 +132,7 @@ class FastMarching {
   // `density` has num_vertices() + 1 entries (the sentinel's last; never used as a cost).
   void march(const double* density, int source, int stop_vertex);
   void accept(int x, const double* density);
-  bool is_ring_final(int v) const;
+  void gather_wide_corners(int t);
   void reset();
   void push_or_decrease(int v, double value);
 
@@ -143,6 +145,7 @@ class FastMarching {
   std::vector<double> rho_;        // the run's densities, then the sentinel's (0)
   BucketQueue queue_;              // the tentative vertices
   int num_final_ = 0;
+  std::vector<std::array<int32_t, 2>> wide_corners_;  // the stop vertex's: see march()
 };
 
 }  // namespace depath

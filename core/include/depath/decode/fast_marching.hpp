@@ -102,7 +102,8 @@ class FastMarching {
   /// Runs from `source`. If `stop_vertex` >= 0, stops once it is final, every vertex whose
   /// value is below its own is final, and so is each pair of neighbours across a corner
   /// wider than a right angle of which one is: what the back-trace's first step from it
-  /// reads (on random densities the traced paths are a full march's). `density` has one positive finite value per vertex.
+  /// reads (on random densities the traced paths are a full march's). `density` has one
+  /// positive finite value per vertex.
   void run(std::span<const double> density, int source, int stop_vertex = -1);
 
   /// Same with the density given as logarithms: vertex v's density is

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "depath/de/checkpoint.hpp"
+#include "depath/decode/fast_marching.hpp"
 #include "depath/util/error.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/solve/solve.hpp"
@@ -48,6 +49,68 @@ void check_resume_everywhere(const Mesh& mesh, const JobSpec& job, int stride) {
     EXPECT_TRUE(test::identical_results(full, solve(mesh, job, resume)))
         << job.de.strategy << " resumed after generation " << generation;
   }
+}
+
+// A run killed after generation `killed` resumes from its checkpoint after generation
+// `checkpointed`, once with the journal of the generations between (what
+// on_trial_energies reported) and once without: both bit-identical to the uninterrupted
+// run. Returns the vertices the two resumes' marches made final (with, without).
+std::pair<uint64_t, uint64_t> resume_with_journal(const Mesh& mesh, const JobSpec& job, int checkpointed, int killed) {
+  std::string checkpoint;
+  std::map<int, std::vector<double>> journal;
+  SolveHooks hooks;
+  hooks.checkpoint_due = [] { return true; };
+  hooks.on_checkpoint = [&](const std::string& bytes) {
+    if (decode_de_state(bytes).generation == checkpointed) checkpoint = bytes;
+  };
+  hooks.on_trial_energies = [&](int generation, std::span<const double> energies) {
+    EXPECT_EQ(static_cast<int>(energies.size()), job.de.population);
+    if (generation > checkpointed && generation <= killed) journal[generation].assign(energies.begin(), energies.end());
+  };
+  const SolveResult full = solve(mesh, job, hooks);
+  EXPECT_TRUE(test::identical_results(full, solve(mesh, job))) << "checkpoints and a journal change nothing";
+  EXPECT_EQ(static_cast<int>(journal.size()), killed - checkpointed);
+  std::pair<uint64_t, uint64_t> marched;
+  for (const bool with_journal : {true, false}) {
+    SolveHooks resume;
+    resume.resume_from = checkpoint;
+    if (with_journal) {
+      resume.recorded_trial_energies = journal;
+      // An entry of another population size is ignored (taken, every trial would lose).
+      resume.recorded_trial_energies[killed + 1].assign(job.de.population + 1, 1e300);
+    }
+    int generations = 0;
+    resume.on_progress = [&](const Progress&) { ++generations; };
+    const uint64_t before = FastMarching::vertices_made_final();
+    const SolveResult resumed = solve(mesh, job, resume);
+    (with_journal ? marched.first : marched.second) = FastMarching::vertices_made_final() - before;
+    EXPECT_TRUE(test::identical_results(full, resumed))
+        << job.de.strategy << " resumed after generation " << checkpointed << (with_journal ? " with" : " without")
+        << " a journal to " << killed;
+    EXPECT_EQ(generations, job.de.generations - checkpointed);
+  }
+  return marched;
+}
+
+TEST(DeResume, JournalSparesTheResumedRunItsDecodesAndChangesNothing) {
+  const Mesh mesh = load_mesh(test::test_data("kitten.off"));
+  for (const std::string strategy : {"shade", "rand1bin"}) {
+    const JobSpec job = de_job(strategy, 40, false);
+    // Killed at generation 35, last checkpoint after 5: the resume replays 30 generations
+    // from the journal and runs 5; without it, all 35 are decoded again.
+    const auto [with, without] = resume_with_journal(mesh, job, 5, 35);
+    EXPECT_LT(double(with), 0.4 * double(without)) << strategy << ": " << with << " vs " << without;
+    // The whole run after the checkpoint journaled: nothing left but the best's decodes.
+    const auto [all, none] = resume_with_journal(mesh, job, 10, 40);
+    EXPECT_LT(double(all), 0.25 * double(none)) << strategy << ": " << all << " vs " << none;
+  }
+}
+
+TEST(DeResume, RefinedRunWithAJournalDecodesEverything) {
+  // Refinement needs every accepted trial's path: the journal is not used, the result is the same.
+  const Mesh mesh = load_mesh(test::test_data("kitten.off"));
+  const auto [with, without] = resume_with_journal(mesh, de_job("shade", 20, true), 4, 16);
+  EXPECT_EQ(with, without);
 }
 
 TEST(DeResume, ShadeResumesBitIdenticalFromEveryCheckpoint) {

@@ -303,6 +303,9 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
     strategy->begin_generation(view, begin_rng);
 
     std::fill(trial_done.begin(), trial_done.end(), 0);
+    // Recorded energies stand in for evaluations that cannot change what the caller keeps.
+    const bool replay = hooks.recorded_energy && !hooks.on_agent_replaced;
+    const double best_before = result.best_energy;
     pool.parallel_for(N, [&](int slot, int i) {
       if (check_cancel()) return;
       DeRandom rng(s.seed, static_cast<uint64_t>(g), static_cast<uint64_t>(i));
@@ -312,9 +315,17 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
       } else {
         strategy->make_trial(view, i, rng, trial);
       }
-      trial_energies[i] = evaluate(slot, i, trials[i]);
+      double recorded = 0.0;
+      if (replay && hooks.recorded_energy(g, i, recorded) && !(recorded < best_before)) {
+        trial_energies[i] = std::isnan(recorded) ? kInf : recorded;
+      } else {
+        trial_energies[i] = evaluate(slot, i, trials[i]);
+      }
       trial_done[i] = 1;
     });
+    if (hooks.on_trials && std::all_of(trial_done.begin(), trial_done.end(), [](unsigned char d) { return d != 0; })) {
+      hooks.on_trials(g, trial_energies);
+    }
 
     // Greedy selection, in index order so that ties resolve the same way every run.
     int improvements = 0;

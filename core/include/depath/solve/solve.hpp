@@ -17,6 +17,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -66,6 +68,15 @@ struct SolveHooks {
   /// Bytes an earlier on_checkpoint gave for the same mesh and job: the run continues from
   /// there and ends bit-identical to an uninterrupted one. Empty: start afresh.
   std::string resume_from;
+  /// A journal of a `de` job since its last checkpoint: after each generation, on the
+  /// solving thread, its trials' energies (one per agent, before selection).
+  std::function<void(int generation, std::span<const double> energies)> on_trial_energies;
+  /// With resume_from: what on_trial_energies reported for the generations after that
+  /// checkpoint before the run was interrupted (generation -> energies). The resumed run
+  /// takes them instead of decoding those trials again (except where a trial would become
+  /// the best, or with refine), and still ends bit-identical. Entries that do not fit (other
+  /// generations, another population size) are ignored.
+  std::map<int, std::vector<double>> recorded_trial_energies;
 };
 
 /// Validates and runs a job. Throws Error (invalid_argument, failed_precondition) for bad

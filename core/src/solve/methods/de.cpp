@@ -251,6 +251,16 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
     resume = decode_de_state(ctx.hooks.resume_from);
     restore_hook_state(ctx, *resume, best_path, best_points, agent_paths, agent_energies);
   }
+  hooks.on_trials = ctx.hooks.on_trial_energies;
+  if (resume && !ctx.hooks.recorded_trial_energies.empty()) {
+    hooks.recorded_energy = [&recorded = ctx.hooks.recorded_trial_energies, N](int generation, int index,
+                                                                               double& energy) {
+      const auto it = recorded.find(generation);
+      if (it == recorded.end() || static_cast<int>(it->second.size()) != N) return false;
+      energy = it->second[static_cast<size_t>(index)];
+      return true;
+    };
+  }
   if (ctx.hooks.on_progress) {
     hooks.on_generation = [&](const DeGenerationReport& report) {
       Progress figures;

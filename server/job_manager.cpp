@@ -2,9 +2,11 @@
 #include "job_manager.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstdio>
 #include <future>
 #include <random>
+#include <span>
 #include <tuple>
 
 #include "depath/de/checkpoint.hpp"
@@ -28,6 +30,29 @@ constexpr uint64_t kSequenceBlock = 1000;
 // replicas (shared store), rarely enough to cost nothing; the live log has every one.
 constexpr double kSharedProgressSeconds = 0.2;
 constexpr double kLocalProgressSeconds = 1.0;
+// The journal of trial energies is stored at most this often: a crash then costs a resume
+// the decodes of this long at most, instead of everything since the last checkpoint.
+constexpr double kJournalSeconds = 0.1;
+
+// A generation's trial energies as stored in the journal: IEEE doubles, little-endian.
+std::string encode_energies(std::span<const double> energies) {
+  std::string bytes(energies.size() * 8, '\0');
+  for (size_t i = 0; i < energies.size(); ++i) {
+    const uint64_t bits = std::bit_cast<uint64_t>(energies[i]);
+    for (int b = 0; b < 8; ++b) bytes[i * 8 + b] = static_cast<char>((bits >> (8 * b)) & 0xff);
+  }
+  return bytes;
+}
+
+std::vector<double> decode_energies(const std::string& bytes) {
+  std::vector<double> energies(bytes.size() / 8);
+  for (size_t i = 0; i < energies.size(); ++i) {
+    uint64_t bits = 0;
+    for (int b = 0; b < 8; ++b) bits |= uint64_t{static_cast<unsigned char>(bytes[i * 8 + b])} << (8 * b);
+    energies[i] = std::bit_cast<double>(bits);
+  }
+  return energies;
+}
 
 std::string random_hex(int bytes) {
   std::random_device rd;
@@ -530,19 +555,33 @@ void JobManager::execute(Running& run, const JobRecord& job) {
       checkpoint.clear();
     }
   }
+  std::map<int, std::vector<double>> journal;  // generations after the checkpoint (all without one)
+  if (job.state == v1::JOB_STATE_RUNNING) {
+    for (const JournalEntry& e : store_.journal_after(job.id, resumed_generation)) {
+      if (e.energies.size() % 8 == 0) journal[e.generation] = decode_energies(e.energies);
+    }
+  }
   std::string message = "running";
   if (job.state == v1::JOB_STATE_RUNNING) {
     message = resumed_generation >= 0
                   ? "resumed from its checkpoint after generation " + std::to_string(resumed_generation)
                   : "restarted from the beginning (no checkpoint yet)";
+    if (!journal.empty()) {
+      message += "; the energies of " + std::to_string(journal.size()) +
+                 " journaled generations spare it their decodes";
+    }
   }
   if (!emit(run, state_event(v1::JOB_STATE_RUNNING, 0, message), true)) return;
   log_.info(job.state == v1::JOB_STATE_RUNNING ? "job.resumed" : "job.started",
-            {{"job", job.id}, {"mesh", job.mesh_id}, {"checkpoint_generation", resumed_generation}});
+            {{"job", job.id},
+             {"mesh", job.mesh_id},
+             {"checkpoint_generation", resumed_generation},
+             {"journal_generations", journal.size()}});
 
   SolveHooks hooks;
   hooks.pool = &pool_;
   hooks.resume_from = std::move(checkpoint);
+  hooks.recorded_trial_energies = std::move(journal);
   hooks.is_cancelled = [r = &run] { return r->cancel.load(std::memory_order_relaxed); };
   hooks.suspend = [r = &run] { return r->suspend.load(std::memory_order_relaxed); };
   // Checkpoints are written on a thread of their own while the DE goes on: the run pays only
@@ -590,6 +629,34 @@ void JobManager::execute(Running& run, const JobRecord& job) {
       }
     });
   };
+  // The journal since the checkpoint: a few generations at a time, on a thread of its own
+  // like the checkpoints (a write waits for the disk).
+  std::vector<JournalEntry> journal_unstored;
+  auto last_journal = std::chrono::steady_clock::now();
+  std::future<void> journal_writing;
+  if (checkpoints) {
+    hooks.on_trial_energies = [&](int generation, std::span<const double> energies) {
+      journal_unstored.push_back({generation, encode_energies(energies)});
+      const auto now = std::chrono::steady_clock::now();
+      if (now - last_journal < seconds(kJournalSeconds) || run.lost.load()) return;
+      if (journal_writing.valid() && journal_writing.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+        return;
+      last_journal = now;
+      if (journal_writing.valid()) journal_writing.get();
+      journal_writing = std::async(std::launch::async, [this, id = job.id, entries = std::move(journal_unstored)] {
+        try {
+          if (store_.append_journal(id, replica_, entries)) {  // a lost lease shows at the next checkpoint
+            log_.debug("job.journaled", {{"job", id},
+                                         {"first_generation", entries.front().generation},
+                                         {"last_generation", entries.back().generation}});
+          }
+        } catch (const std::exception& e) {
+          log_.warn("job.journal_failed", {{"job", id}, {"reason", e.what()}});
+        }
+      });
+      journal_unstored.clear();
+    };
+  }
   const double persist_every = store_.shared() ? kSharedProgressSeconds : kLocalProgressSeconds;
   auto last_persist = std::chrono::steady_clock::time_point{};
   // Metrics: evaluations and generations since the last report, and one sample of the time
@@ -662,6 +729,7 @@ void JobManager::execute(Running& run, const JobRecord& job) {
     error = std::string("internal error: ") + e.what();
   }
   if (writing.valid()) writing.get();  // stored before the job is handed back or finished
+  if (journal_writing.valid()) journal_writing.get();
   if (run.lost.load()) {
     log_.warn("job.lease_lost",
               {{"job", job.id}, {"reason", "another replica took the job over; this run stops"}});

@@ -65,6 +65,12 @@ const Migration kMigrations[] = {
     {"jobs_client",
      R"(ALTER TABLE jobs ADD COLUMN client TEXT;
        CREATE INDEX jobs_by_client ON jobs (client, state);)"},
+    // 3 -> 4: the trial energies of each generation since a running job's checkpoint, so
+    // that a resume from it need not decode those trials again.
+    {"trial_journal",
+     R"(CREATE TABLE trial_journal (
+         job_id TEXT NOT NULL, generation BIGINT NOT NULL, energies {BLOB} NOT NULL,
+         PRIMARY KEY (job_id, generation));)"},
 };
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));
 
@@ -498,9 +504,35 @@ bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, i
       "ON CONFLICT (job_id) DO UPDATE SET generation = excluded.generation, saved = excluded.saved, "
       "body = excluded.body",
       {id, generation, now_unix(), sql_blob(bytes)});
+  s->exec("DELETE FROM trial_journal WHERE job_id = $1 AND generation <= $2", {id, generation});
   add_history(*s, id, history);
   tx.commit();
   return true;
+}
+
+bool JobStore::append_journal(const std::string& id, const std::string& owner,
+                              const std::vector<JournalEntry>& entries) {
+  auto s = db_->session();
+  SqlTransaction tx(*s, db_->dialect());
+  if (s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty()) return false;
+  for (const auto& e : entries) {
+    s->exec("INSERT INTO trial_journal (job_id, generation, energies) VALUES ($1, $2, $3) ON CONFLICT DO NOTHING",
+            {id, e.generation, sql_blob(e.energies)});
+  }
+  tx.commit();
+  return true;
+}
+
+std::vector<JournalEntry> JobStore::journal_after(const std::string& id, int generation) {
+  auto s = db_->session();
+  std::vector<JournalEntry> entries;
+  for (const auto& r : s->exec("SELECT generation, energies FROM trial_journal WHERE job_id = $1 AND generation > $2 "
+                               "ORDER BY generation",
+                               {id, generation})
+                           .rows) {
+    entries.push_back({static_cast<int>(sql_int(r[0])), sql_string(r[1])});
+  }
+  return entries;
 }
 
 std::optional<v1::JobResult> JobStore::get_result(const std::string& id) {
@@ -556,6 +588,7 @@ bool JobStore::finish(const std::string& id, const std::string& owner, const v1:
   }
   add_history(*s, id, history);
   s->exec("DELETE FROM checkpoints WHERE job_id = $1", {id});
+  s->exec("DELETE FROM trial_journal WHERE job_id = $1", {id});
   tx.commit();
   return true;
 }
@@ -700,6 +733,7 @@ int JobStore::expire(double before, int64_t keep_at_most) {
     s->exec("DELETE FROM events WHERE job_id = $1", {id});
     s->exec("DELETE FROM results WHERE job_id = $1", {id});
     s->exec("DELETE FROM checkpoints WHERE job_id = $1", {id});
+    s->exec("DELETE FROM trial_journal WHERE job_id = $1", {id});
     s->exec("DELETE FROM progress_history WHERE job_id = $1", {id});
     s->exec("DELETE FROM jobs WHERE id = $1", {id});
     s->exec("INSERT INTO expired_jobs (id, expired) VALUES ($1, $2) ON CONFLICT DO NOTHING", {id, now});

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The durable state of depathd: meshes, jobs (spec, state, lease), their numbered events,
-// results, DE checkpoints and per-generation progress histories, in SQLite (default, one process) or
+// results, DE checkpoints with the journal of trial energies since each, and per-generation
+// progress histories, in SQLite (default, one process) or
 // PostgreSQL (shared by replicas), or in an in-process SQLite database for `--store memory`.
 //
 // open_job_store(uri): "memory", "sqlite:PATH", "postgresql://..." (or "postgres://...").
@@ -8,7 +9,7 @@
 // a newer depathd, an unreachable server or an unwritable file throw StoreError naming it.
 //
 // Ownership of work: a job is run by the replica that holds its lease (owner +
-// lease_until); every write a runner makes (events, checkpoint, finish) is conditional on
+// lease_until); every write a runner makes (events, checkpoint, journal, finish) is conditional on
 // still holding it, so a job taken over after its lease expired never completes twice.
 // Event sequences are assigned by the owner; it reserves them in blocks (seq_reserved) so
 // a replica taking a job over continues above every number the previous owner may have
@@ -56,6 +57,13 @@ struct ProgressPoint {
   int generation = 0;
   double best_energy = 0;
   double mean_energy = 0;  ///< NaN when some agents had no finite energy (stored as NULL)
+};
+
+/// One generation of a running job's journal: its trials' energies, as the solver reported
+/// them (encoded by the job manager).
+struct JournalEntry {
+  int generation = 0;
+  std::string energies;
 };
 
 /// A job's progress history keeps at most about this many points: every generation while
@@ -139,10 +147,17 @@ class JobStore {
   bool put_checkpoint(const std::string& id, const std::string& owner, int generation,
                       const std::string& bytes, const std::vector<ProgressPoint>& history = {});
   std::string get_checkpoint(const std::string& id);
+  /// Adds generations to the job's journal since its checkpoint (a generation stored already
+  /// is kept). False (nothing written) if the lease is lost. put_checkpoint drops the
+  /// generations it covers, finish and expire the rest.
+  bool append_journal(const std::string& id, const std::string& owner, const std::vector<JournalEntry>& entries);
+  /// The journal's generations after `generation`, ascending.
+  std::vector<JournalEntry> journal_after(const std::string& id, int generation);
   std::optional<v1::JobResult> get_result(const std::string& id);
   /// Terminal state, result and final events (the terminal state event last; a progress
-  /// event among them replaces the stored one) in one transaction; drops the checkpoint and
-  /// the spec's per-vertex arrays (a finished job keeps only what its result needs).
+  /// event among them replaces the stored one) in one transaction; drops the checkpoint,
+  /// the journal and the spec's per-vertex arrays (a finished job keeps only what its result
+  /// needs).
   /// False (and nothing written) if the lease is lost.
   /// `history`: the generations not stored yet, added to the progress history.
   bool finish(const std::string& id, const std::string& owner, const v1::JobResult* result,

@@ -1073,6 +1073,57 @@ TEST(ServiceJobStore, ProgressHistoryIsThinnedAndWrittenByTheOwnerOnly) {
   EXPECT_TRUE(store->progress_history("job-h").empty());
 }
 
+// The journal of trial energies: written by the lease holder only, read back after a given
+// generation in order and byte for byte, a generation stored twice kept once; a checkpoint
+// drops the generations it covers, the finish drops the rest, and it survives a reopen of
+// the file (a restart after kill -9).
+TEST(ServiceJobStore, JournalIsTheOwnersSinceTheCheckpointAndDroppedAtTheEnd) {
+  const auto dir = std::filesystem::temp_directory_path() / ("depath_journal_test_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const std::string uri = "sqlite:" + (dir / "depath.db").string();
+  auto entry = [](int g) {
+    std::string bytes(16, '\0');
+    for (int b = 0; b < 16; ++b) bytes[b] = static_cast<char>((g * 31 + b * 7) & 0xff);  // NULs and high bytes too
+    return service::JournalEntry{g, bytes};
+  };
+  auto generations = [](const std::vector<service::JournalEntry>& entries) {
+    std::vector<int> g;
+    for (const auto& e : entries) g.push_back(e.generation);
+    return g;
+  };
+  {
+    const auto store = service::JobStore::open(uri);
+    v1::JobEvent queued;
+    queued.mutable_state()->set_state(v1::JOB_STATE_QUEUED);
+    service::JobRecord record;
+    record.id = "job-j";
+    record.mesh_id = "m";
+    store->insert_job(record, queued);
+    ASSERT_TRUE(store->claim("owner", 1.0, 600));
+    ASSERT_TRUE(store->append_journal("job-j", "owner", {entry(1), entry(2), entry(3)}));
+    ASSERT_TRUE(store->append_journal("job-j", "owner", {entry(3), entry(4), entry(5)}));  // 3 again: kept once
+    EXPECT_FALSE(store->append_journal("job-j", "intruder", {entry(6)}));
+    EXPECT_EQ(generations(store->journal_after("job-j", 0)), (std::vector<int>{1, 2, 3, 4, 5}));
+    EXPECT_EQ(generations(store->journal_after("job-j", 3)), (std::vector<int>{4, 5}));
+    EXPECT_TRUE(store->journal_after("job-other", 0).empty());
+    ASSERT_TRUE(store->put_checkpoint("job-j", "owner", 4, "state"));
+  }
+  {
+    const auto store = service::JobStore::open(uri);  // reopened, as after a restart
+    const auto left = store->journal_after("job-j", -1);
+    ASSERT_EQ(generations(left), (std::vector<int>{5}));
+    EXPECT_EQ(left[0].energies, entry(5).energies);
+    ASSERT_TRUE(store->claim("owner", 1.0, 600));  // a reopened store voids the earlier process's leases
+    v1::JobEvent done;
+    done.set_sequence(2);
+    done.mutable_state()->set_state(v1::JOB_STATE_SUCCEEDED);
+    ASSERT_TRUE(store->finish("job-j", "owner", nullptr, {done}));
+    EXPECT_TRUE(store->journal_after("job-j", -1).empty());
+  }
+  std::filesystem::remove_all(dir);
+}
+
 // ---- AccessGuard (tokens, failed-attempt limit, request rate) ------------------------------
 
 TEST(AccessGuard, PeerHostDropsThePort) {

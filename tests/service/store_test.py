@@ -104,6 +104,26 @@ def wait_checkpoint(d, job, generation):
         time.sleep(0.05)
 
 
+def journaled_after(d, job, generation):
+    """The generations after `generation` the daemon's log says are in the job's journal."""
+    out = set()
+    for e in d.log_lines("job.journaled"):
+        if e.get("job") == job:
+            out.update(g for g in range(e["first_generation"], e["last_generation"] + 1) if g > generation)
+    return out
+
+
+def wait_journal_past_checkpoint(d, job):
+    """Until a journal write covers a generation after the latest stored checkpoint."""
+    deadline = time.monotonic() + 60 * SCALE
+    while True:
+        latest = max((e.get("generation", 0) for e in d.log_lines("job.checkpointed") if e.get("job") == job), default=0)
+        if journaled_after(d, job, latest):
+            return
+        check(time.monotonic() < deadline, "no journal past the checkpoint at generation %d" % latest)
+        time.sleep(0.02)
+
+
 def submit(d, seed, generations):
     r = client("submit", ARGS.mesh, *spec(seed, generations), "--server", d.address)
     check(r.returncode == 0 and r.stdout.strip().startswith("job-"), "submit failed: %s %s" % (r.stdout, r.stderr))
@@ -162,7 +182,10 @@ def restart_durability(store_args, label):
         queued = submit(d, 4, 150)
         seen = watch_until_generation(d, long_job, 400)
         wait_checkpoint(d, long_job, 300)
+        if sig == signal.SIGKILL:
+            wait_journal_past_checkpoint(d, long_job)
         d.stop(sig)
+        before = d
         t0 = time.monotonic()
         d = Daemon(store_args, ["--checkpoint-seconds", "0.3", "--max-running-jobs", "1"])
         try:
@@ -182,11 +205,20 @@ def restart_durability(store_args, label):
             resumed = d.log_lines("job.resumed")
             check(any(e.get("job") == long_job and e.get("checkpoint_generation", -1) >= 300 for e in resumed),
                   "%s: the job did not resume from a checkpoint at generation >= 300: %s" % (sig.name, resumed))
+            # The journal since that checkpoint came back whole (what the log says was stored,
+            # perhaps more: a write can land just before the kill without its log line); a
+            # suspend checkpoints the generation it stops at, so nothing follows it.
+            mine = [e for e in resumed if e.get("job") == long_job][0]
+            stored = journaled_after(before, long_job, mine["checkpoint_generation"])
+            if sig == signal.SIGKILL:
+                check(mine.get("journal_generations", -1) >= len(stored),
+                      "%s: resumed with %s journal generations, %d were stored" % (sig.name, mine.get("journal_generations"), len(stored)))
+            else:
+                check(mine.get("journal_generations") == 0, "SIGTERM: resumed with a journal: %s" % mine)
             check(final_state(events(d, queued)) == "succeeded", "queued job did not run after restart")
             check(same(result(d, queued), reference(4, 150)), "queued job's result differs")
-            print("%s %s: resumed from generation %s, identical result, finished %.1f s after restart"
-                  % (label, sig.name, [e.get("checkpoint_generation") for e in resumed if e.get("job") == long_job],
-                     took))
+            print("%s %s: resumed from generation %s with %s generations of journal, identical result, finished %.1f s after restart"
+                  % (label, sig.name, mine["checkpoint_generation"], mine.get("journal_generations"), took))
         finally:
             d.stop()
 
@@ -250,7 +282,7 @@ def test_ttl_sqlite():
     finally:
         d.stop()
     db = sqlite3.connect(os.path.join(data, "depath.db"))
-    for table in ("jobs", "events", "results", "checkpoints"):
+    for table in ("jobs", "events", "results", "checkpoints", "trial_journal"):
         rows = db.execute("SELECT COUNT(*) FROM %s" % table).fetchone()[0]
         check(rows == 0, "%d rows left in %s after the TTL" % (rows, table))
 
@@ -449,6 +481,7 @@ def test_postgres(pg):
         b = Daemon(store, opts)
         watch_until_generation(b, job, 400)  # live progress through the other replica
         wait_checkpoint(a, job, 300)
+        wait_journal_past_checkpoint(a, job)
         a.stop(signal.SIGKILL)
         t0 = time.monotonic()
         evs = events(b, job, timeout=600)
@@ -457,8 +490,12 @@ def test_postgres(pg):
         check([e.get("state") for e in evs if e.get("event") == "state"].count("succeeded") == 1, "two terminal events")
         resumed = [e for e in b.log_lines("job.resumed") if e.get("job") == job]
         check(resumed and resumed[0].get("checkpoint_generation", -1) >= 300, "B did not resume from a checkpoint")
-        print("postgresql takeover after kill -9: resumed on the other replica from generation %d, identical, "
-              "done %.1f s later" % (resumed[0]["checkpoint_generation"], time.monotonic() - t0))
+        stored = journaled_after(a, job, resumed[0]["checkpoint_generation"])
+        check(resumed[0].get("journal_generations", -1) >= len(stored),
+              "B resumed with %s journal generations, A stored %d" % (resumed[0].get("journal_generations"), len(stored)))
+        print("postgresql takeover after kill -9: resumed on the other replica from generation %d with %d generations "
+              "of journal, identical, done %.1f s later"
+              % (resumed[0]["checkpoint_generation"], resumed[0]["journal_generations"], time.monotonic() - t0))
         # Its progress history has no gap (the checkpoint carries the generations before it; the
         # resumed run repeats those after it), thinned past 1000 points as store/job_store.hpp says.
         g_end = result(b, job)["generations"]
@@ -516,7 +553,7 @@ def test_postgres(pg):
     d = Daemon(store, ["--job-ttl-seconds", "1"])
     try:
         time.sleep(3 * SCALE)
-        for table in ("jobs", "events", "results", "checkpoints", "progress_history"):
+        for table in ("jobs", "events", "results", "checkpoints", "progress_history", "trial_journal"):
             check(pg.query("SELECT COUNT(*) FROM %s" % table) == "0", "rows left in %s after the TTL" % table)
         check(int(pg.query("SELECT COUNT(*) FROM expired_jobs")) >= 50, "no tombstones for expired jobs")
     finally:

@@ -147,16 +147,16 @@ struct DeHooks {
   /// stop_reason "suspended" (a server going down that will resume the run later).
   std::function<bool()> suspend;
   /// Called on the calling thread once a generation's trials are all evaluated, before
-  /// selection: trial `i`'s energy at [i] (for a journal of the run since its last
-  /// checkpoint).
+  /// selection: trial `i`'s energy at [i]; generation 0 is the initial population (for a
+  /// journal of the run since its last checkpoint).
   std::function<void(int generation, std::span<const double> trial_energies)> on_trials;
-  /// A resumed run's record of what on_trials reported for the generations after its
-  /// checkpoint, before it was interrupted: true and `energy` set when trial `index` of
-  /// `generation` is known. Called concurrently from pool threads. The trial is still made
-  /// (its vector may join the population) but not evaluated again, unless it would become
-  /// the new best (on_new_best then gets it evaluated, so per-index results are there) or
-  /// on_agent_replaced is set (every accepted trial needs them). The run is deterministic,
-  /// so it ends bit-identical to one that evaluated every trial.
+  /// What on_trials reported in an earlier run of the same problem and settings (from the
+  /// checkpoint it resumes, or from the start): true and `energy` set when candidate `index`
+  /// of `generation` is known. Called concurrently from pool threads. The candidate is still
+  /// made (its vector may join the population) but not evaluated again, unless it would
+  /// become the new best (it is then evaluated, so on_new_best finds its per-index results)
+  /// or on_agent_replaced is set (every accepted candidate needs them). The run is
+  /// deterministic, so it ends bit-identical to one that evaluated every candidate.
   std::function<bool(int generation, int index, double& energy)> recorded_energy;
 };
 

@@ -69,13 +69,14 @@ struct SolveHooks {
   /// there and ends bit-identical to an uninterrupted one. Empty: start afresh.
   std::string resume_from;
   /// A journal of a `de` job since its last checkpoint: after each generation, on the
-  /// solving thread, its trials' energies (one per agent, before selection).
+  /// solving thread, its trials' energies (one per agent, before selection; generation 0:
+  /// the initial agents').
   std::function<void(int generation, std::span<const double> energies)> on_trial_energies;
-  /// With resume_from: what on_trial_energies reported for the generations after that
-  /// checkpoint before the run was interrupted (generation -> energies). The resumed run
-  /// takes them instead of decoding those trials again (except where a trial would become
-  /// the best, or with refine), and still ends bit-identical. Entries that do not fit (other
-  /// generations, another population size) are ignored.
+  /// What on_trial_energies reported in an interrupted run of the same job, for generations
+  /// after resume_from's checkpoint (from generation 0 without one): generation -> energies.
+  /// The run takes them instead of decoding those candidates again (except one that would
+  /// become the best, or with refine) and still ends bit-identical. An entry of another
+  /// population size is ignored.
   std::map<int, std::vector<double>> recorded_trial_energies;
 };
 

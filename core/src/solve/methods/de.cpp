@@ -252,7 +252,7 @@ MethodOutcome run_de_method(const MethodContext& ctx) {
     restore_hook_state(ctx, *resume, best_path, best_points, agent_paths, agent_energies);
   }
   hooks.on_trials = ctx.hooks.on_trial_energies;
-  if (resume && !ctx.hooks.recorded_trial_energies.empty()) {
+  if (!ctx.hooks.recorded_trial_energies.empty()) {
     hooks.recorded_energy = [&recorded = ctx.hooks.recorded_trial_energies, N](int generation, int index,
                                                                                double& energy) {
       const auto it = recorded.find(generation);

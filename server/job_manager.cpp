@@ -34,24 +34,32 @@ constexpr double kLocalProgressSeconds = 1.0;
 // the decodes of this long at most, instead of everything since the last checkpoint.
 constexpr double kJournalSeconds = 0.1;
 
-// A generation's trial energies as stored in the journal: IEEE doubles, little-endian.
-std::string encode_energies(std::span<const double> energies) {
-  std::string bytes(energies.size() * 8, '\0');
-  for (size_t i = 0; i < energies.size(); ++i) {
-    const uint64_t bits = std::bit_cast<uint64_t>(energies[i]);
-    for (int b = 0; b < 8; ++b) bytes[i * 8 + b] = static_cast<char>((bits >> (8 * b)) & 0xff);
+// Trial energies as the journal stores them: IEEE doubles, little-endian, generation after
+// generation.
+void append_energies(std::string& bytes, std::span<const double> energies) {
+  for (const double e : energies) {
+    const uint64_t bits = std::bit_cast<uint64_t>(e);
+    for (int b = 0; b < 8; ++b) bytes.push_back(static_cast<char>((bits >> (8 * b)) & 0xff));
   }
-  return bytes;
 }
 
-std::vector<double> decode_energies(const std::string& bytes) {
-  std::vector<double> energies(bytes.size() / 8);
-  for (size_t i = 0; i < energies.size(); ++i) {
-    uint64_t bits = 0;
-    for (int b = 0; b < 8; ++b) bits |= uint64_t{static_cast<unsigned char>(bytes[i * 8 + b])} << (8 * b);
-    energies[i] = std::bit_cast<double>(bits);
+// The generations of `entry` after `after`, into `journal`; an entry whose bytes do not
+// split into its generations is skipped.
+void decode_journal(const JournalEntry& entry, int after, std::map<int, std::vector<double>>& journal) {
+  const int generations = entry.last_generation - entry.first_generation + 1;
+  if (generations <= 0 || entry.energies.size() % (8 * static_cast<size_t>(generations)) != 0) return;
+  const size_t per_generation = entry.energies.size() / 8 / static_cast<size_t>(generations);
+  for (int k = 0; k < generations; ++k) {
+    if (entry.first_generation + k <= after) continue;
+    std::vector<double>& energies = journal[entry.first_generation + k];
+    energies.resize(per_generation);
+    for (size_t i = 0; i < per_generation; ++i) {
+      const size_t at = (static_cast<size_t>(k) * per_generation + i) * 8;
+      uint64_t bits = 0;
+      for (int b = 0; b < 8; ++b) bits |= uint64_t{static_cast<unsigned char>(entry.energies[at + b])} << (8 * b);
+      energies[i] = std::bit_cast<double>(bits);
+    }
   }
-  return energies;
 }
 
 std::string random_hex(int bytes) {
@@ -558,7 +566,7 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   std::map<int, std::vector<double>> journal;  // generations after the checkpoint (all without one)
   if (job.state == v1::JOB_STATE_RUNNING) {
     for (const JournalEntry& e : store_.journal_after(job.id, resumed_generation)) {
-      if (e.energies.size() % 8 == 0) journal[e.generation] = decode_energies(e.energies);
+      decode_journal(e, resumed_generation, journal);
     }
   }
   std::string message = "running";
@@ -631,30 +639,32 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   };
   // The journal since the checkpoint: a few generations at a time, on a thread of its own
   // like the checkpoints (a write waits for the disk).
-  std::vector<JournalEntry> journal_unstored;
+  JournalEntry journal_unstored;  // generations not handed to a write yet
   auto last_journal = std::chrono::steady_clock::now();
   std::future<void> journal_writing;
   if (checkpoints) {
     hooks.on_trial_energies = [&](int generation, std::span<const double> energies) {
-      journal_unstored.push_back({generation, encode_energies(energies)});
+      if (journal_unstored.energies.empty()) journal_unstored.first_generation = generation;
+      journal_unstored.last_generation = generation;
+      append_energies(journal_unstored.energies, energies);
       const auto now = std::chrono::steady_clock::now();
       if (now - last_journal < seconds(kJournalSeconds) || run.lost.load()) return;
       if (journal_writing.valid() && journal_writing.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
-        return;
+        return;  // one write at a time: the next takes all generations since
       last_journal = now;
       if (journal_writing.valid()) journal_writing.get();
-      journal_writing = std::async(std::launch::async, [this, id = job.id, entries = std::move(journal_unstored)] {
+      journal_writing = std::async(std::launch::async, [this, id = job.id, entry = std::move(journal_unstored)] {
         try {
-          if (store_.append_journal(id, replica_, entries)) {  // a lost lease shows at the next checkpoint
+          if (store_.append_journal(id, replica_, entry)) {  // a lost lease shows at the next checkpoint
             log_.debug("job.journaled", {{"job", id},
-                                         {"first_generation", entries.front().generation},
-                                         {"last_generation", entries.back().generation}});
+                                         {"first_generation", entry.first_generation},
+                                         {"last_generation", entry.last_generation}});
           }
         } catch (const std::exception& e) {
           log_.warn("job.journal_failed", {{"job", id}, {"reason", e.what()}});
         }
       });
-      journal_unstored.clear();
+      journal_unstored = {};
     };
   }
   const double persist_every = store_.shared() ? kSharedProgressSeconds : kLocalProgressSeconds;

@@ -69,8 +69,8 @@ const Migration kMigrations[] = {
     // that a resume from it need not decode those trials again.
     {"trial_journal",
      R"(CREATE TABLE trial_journal (
-         job_id TEXT NOT NULL, generation BIGINT NOT NULL, energies {BLOB} NOT NULL,
-         PRIMARY KEY (job_id, generation));)"},
+         job_id TEXT NOT NULL, first_generation BIGINT NOT NULL, last_generation BIGINT NOT NULL,
+         energies {BLOB} NOT NULL, PRIMARY KEY (job_id, first_generation));)"},
 };
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));
 
@@ -504,21 +504,21 @@ bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, i
       "ON CONFLICT (job_id) DO UPDATE SET generation = excluded.generation, saved = excluded.saved, "
       "body = excluded.body",
       {id, generation, now_unix(), sql_blob(bytes)});
-  s->exec("DELETE FROM trial_journal WHERE job_id = $1 AND generation <= $2", {id, generation});
+  s->exec("DELETE FROM trial_journal WHERE job_id = $1 AND last_generation <= $2", {id, generation});
   add_history(*s, id, history);
   tx.commit();
   return true;
 }
 
-bool JobStore::append_journal(const std::string& id, const std::string& owner,
-                              const std::vector<JournalEntry>& entries) {
+bool JobStore::append_journal(const std::string& id, const std::string& owner, const JournalEntry& entry) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
   if (s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty()) return false;
-  for (const auto& e : entries) {
-    s->exec("INSERT INTO trial_journal (job_id, generation, energies) VALUES ($1, $2, $3) ON CONFLICT DO NOTHING",
-            {id, e.generation, sql_blob(e.energies)});
-  }
+  s->exec(
+      "INSERT INTO trial_journal (job_id, first_generation, last_generation, energies) VALUES ($1, $2, $3, $4) "
+      "ON CONFLICT (job_id, first_generation) DO UPDATE SET last_generation = excluded.last_generation, "
+      "energies = excluded.energies",
+      {id, entry.first_generation, entry.last_generation, sql_blob(entry.energies)});
   tx.commit();
   return true;
 }
@@ -526,11 +526,11 @@ bool JobStore::append_journal(const std::string& id, const std::string& owner,
 std::vector<JournalEntry> JobStore::journal_after(const std::string& id, int generation) {
   auto s = db_->session();
   std::vector<JournalEntry> entries;
-  for (const auto& r : s->exec("SELECT generation, energies FROM trial_journal WHERE job_id = $1 AND generation > $2 "
-                               "ORDER BY generation",
+  for (const auto& r : s->exec("SELECT first_generation, last_generation, energies FROM trial_journal "
+                               "WHERE job_id = $1 AND last_generation > $2 ORDER BY first_generation",
                                {id, generation})
                            .rows) {
-    entries.push_back({static_cast<int>(sql_int(r[0])), sql_string(r[1])});
+    entries.push_back({static_cast<int>(sql_int(r[0])), static_cast<int>(sql_int(r[1])), sql_string(r[2])});
   }
   return entries;
 }

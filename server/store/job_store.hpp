@@ -59,10 +59,11 @@ struct ProgressPoint {
   double mean_energy = 0;  ///< NaN when some agents had no finite energy (stored as NULL)
 };
 
-/// One generation of a running job's journal: its trials' energies, as the solver reported
-/// them (encoded by the job manager).
+/// Consecutive generations of a running job's journal: their trials' energies, as the
+/// solver reported them (encoded by the job manager), one write's worth.
 struct JournalEntry {
-  int generation = 0;
+  int first_generation = 0;
+  int last_generation = 0;
   std::string energies;
 };
 
@@ -147,11 +148,12 @@ class JobStore {
   bool put_checkpoint(const std::string& id, const std::string& owner, int generation,
                       const std::string& bytes, const std::vector<ProgressPoint>& history = {});
   std::string get_checkpoint(const std::string& id);
-  /// Adds generations to the job's journal since its checkpoint (a generation stored already
-  /// is kept). False (nothing written) if the lease is lost. put_checkpoint drops the
-  /// generations it covers, finish and expire the rest.
-  bool append_journal(const std::string& id, const std::string& owner, const std::vector<JournalEntry>& entries);
-  /// The journal's generations after `generation`, ascending.
+  /// Adds generations to the job's journal since its checkpoint, one row (an entry with the
+  /// same first generation, from a resumed run, is replaced). False (nothing written) if the
+  /// lease is lost. put_checkpoint drops the entries it covers whole, finish and expire the
+  /// rest.
+  bool append_journal(const std::string& id, const std::string& owner, const JournalEntry& entry);
+  /// The journal's entries that reach past `generation`, by first generation.
   std::vector<JournalEntry> journal_after(const std::string& id, int generation);
   std::optional<v1::JobResult> get_result(const std::string& id);
   /// Terminal state, result and final events (the terminal state event last; a progress

@@ -1073,23 +1073,23 @@ TEST(ServiceJobStore, ProgressHistoryIsThinnedAndWrittenByTheOwnerOnly) {
   EXPECT_TRUE(store->progress_history("job-h").empty());
 }
 
-// The journal of trial energies: written by the lease holder only, read back after a given
-// generation in order and byte for byte, a generation stored twice kept once; a checkpoint
-// drops the generations it covers, the finish drops the rest, and it survives a reopen of
-// the file (a restart after kill -9).
+// The journal of trial energies: written by the lease holder only, read back byte for byte
+// by the entries that reach past a generation, an entry with the same first generation (a
+// resumed run's) replacing the earlier; a checkpoint drops the entries it covers whole, the
+// finish the rest, and it survives a reopen of the file (a restart after kill -9).
 TEST(ServiceJobStore, JournalIsTheOwnersSinceTheCheckpointAndDroppedAtTheEnd) {
   const auto dir = std::filesystem::temp_directory_path() / ("depath_journal_test_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string uri = "sqlite:" + (dir / "depath.db").string();
-  auto entry = [](int g) {
-    std::string bytes(16, '\0');
-    for (int b = 0; b < 16; ++b) bytes[b] = static_cast<char>((g * 31 + b * 7) & 0xff);  // NULs and high bytes too
-    return service::JournalEntry{g, bytes};
+  auto entry = [](int first, int last) {
+    std::string bytes(16 * (last - first + 1), '\0');
+    for (size_t b = 0; b < bytes.size(); ++b) bytes[b] = static_cast<char>((first * 31 + b * 7) & 0xff);  // NULs too
+    return service::JournalEntry{first, last, bytes};
   };
-  auto generations = [](const std::vector<service::JournalEntry>& entries) {
+  auto firsts = [](const std::vector<service::JournalEntry>& entries) {
     std::vector<int> g;
-    for (const auto& e : entries) g.push_back(e.generation);
+    for (const auto& e : entries) g.push_back(e.first_generation);
     return g;
   };
   {
@@ -1101,19 +1101,24 @@ TEST(ServiceJobStore, JournalIsTheOwnersSinceTheCheckpointAndDroppedAtTheEnd) {
     record.mesh_id = "m";
     store->insert_job(record, queued);
     ASSERT_TRUE(store->claim("owner", 1.0, 600));
-    ASSERT_TRUE(store->append_journal("job-j", "owner", {entry(1), entry(2), entry(3)}));
-    ASSERT_TRUE(store->append_journal("job-j", "owner", {entry(3), entry(4), entry(5)}));  // 3 again: kept once
-    EXPECT_FALSE(store->append_journal("job-j", "intruder", {entry(6)}));
-    EXPECT_EQ(generations(store->journal_after("job-j", 0)), (std::vector<int>{1, 2, 3, 4, 5}));
-    EXPECT_EQ(generations(store->journal_after("job-j", 3)), (std::vector<int>{4, 5}));
-    EXPECT_TRUE(store->journal_after("job-other", 0).empty());
-    ASSERT_TRUE(store->put_checkpoint("job-j", "owner", 4, "state"));
+    ASSERT_TRUE(store->append_journal("job-j", "owner", entry(0, 3)));
+    ASSERT_TRUE(store->append_journal("job-j", "owner", entry(4, 4)));
+    ASSERT_TRUE(store->append_journal("job-j", "owner", entry(5, 6)));
+    ASSERT_TRUE(store->append_journal("job-j", "owner", entry(5, 9)));  // a resumed run's, longer
+    EXPECT_FALSE(store->append_journal("job-j", "intruder", entry(10, 12)));
+    EXPECT_EQ(firsts(store->journal_after("job-j", -1)), (std::vector<int>{0, 4, 5}));
+    EXPECT_EQ(firsts(store->journal_after("job-j", 2)), (std::vector<int>{0, 4, 5}));  // 0-3 reaches past 2
+    EXPECT_EQ(firsts(store->journal_after("job-j", 4)), (std::vector<int>{5}));
+    EXPECT_TRUE(store->journal_after("job-j", 9).empty());
+    EXPECT_TRUE(store->journal_after("job-other", -1).empty());
+    ASSERT_TRUE(store->put_checkpoint("job-j", "owner", 4, "state"));  // covers 0-3 and 4 whole
   }
   {
     const auto store = service::JobStore::open(uri);  // reopened, as after a restart
     const auto left = store->journal_after("job-j", -1);
-    ASSERT_EQ(generations(left), (std::vector<int>{5}));
-    EXPECT_EQ(left[0].energies, entry(5).energies);
+    ASSERT_EQ(firsts(left), (std::vector<int>{5}));
+    EXPECT_EQ(left[0].last_generation, 9);
+    EXPECT_EQ(left[0].energies, entry(5, 9).energies);
     ASSERT_TRUE(store->claim("owner", 1.0, 600));  // a reopened store voids the earlier process's leases
     v1::JobEvent done;
     done.set_sequence(2);

@@ -10,8 +10,8 @@
 #include <tuple>
 
 #include "depath/de/checkpoint.hpp"
-#include "depath/util/error.hpp"
 #include "depath/solve/solve.hpp"
+#include "depath/util/error.hpp"
 #include "depath/wire/wire.hpp"
 #include "job_limits.hpp"
 #include "service_error.hpp"
@@ -56,7 +56,8 @@ void decode_journal(const JournalEntry& entry, int after, std::map<int, std::vec
     for (size_t i = 0; i < per_generation; ++i) {
       const size_t at = (static_cast<size_t>(k) * per_generation + i) * 8;
       uint64_t bits = 0;
-      for (int b = 0; b < 8; ++b) bits |= uint64_t{static_cast<unsigned char>(entry.energies[at + b])} << (8 * b);
+      for (int b = 0; b < 8; ++b)
+        bits |= uint64_t{static_cast<unsigned char>(entry.energies[at + b])} << (8 * b);
       energies[i] = std::bit_cast<double>(bits);
     }
   }
@@ -649,21 +650,23 @@ void JobManager::execute(Running& run, const JobRecord& job) {
       append_energies(journal_unstored.energies, energies);
       const auto now = std::chrono::steady_clock::now();
       if (now - last_journal < seconds(kJournalSeconds) || run.lost.load()) return;
-      if (journal_writing.valid() && journal_writing.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+      if (journal_writing.valid() &&
+          journal_writing.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
         return;  // one write at a time: the next takes all generations since
       last_journal = now;
       if (journal_writing.valid()) journal_writing.get();
-      journal_writing = std::async(std::launch::async, [this, id = job.id, entry = std::move(journal_unstored)] {
-        try {
-          if (store_.append_journal(id, replica_, entry)) {  // a lost lease shows at the next checkpoint
-            log_.debug("job.journaled", {{"job", id},
-                                         {"first_generation", entry.first_generation},
-                                         {"last_generation", entry.last_generation}});
-          }
-        } catch (const std::exception& e) {
-          log_.warn("job.journal_failed", {{"job", id}, {"reason", e.what()}});
-        }
-      });
+      journal_writing =
+          std::async(std::launch::async, [this, id = job.id, entry = std::move(journal_unstored)] {
+            try {
+              if (store_.append_journal(id, replica_, entry)) {  // a lost lease shows at the next checkpoint
+                log_.debug("job.journaled", {{"job", id},
+                                             {"first_generation", entry.first_generation},
+                                             {"last_generation", entry.last_generation}});
+              }
+            } catch (const std::exception& e) {
+              log_.warn("job.journal_failed", {{"job", id}, {"reason", e.what()}});
+            }
+          });
       journal_unstored = {};
     };
   }

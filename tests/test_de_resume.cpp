@@ -10,9 +10,9 @@
 
 #include "depath/de/checkpoint.hpp"
 #include "depath/decode/fast_marching.hpp"
-#include "depath/util/error.hpp"
 #include "depath/io/mesh_reader.hpp"
 #include "depath/solve/solve.hpp"
+#include "depath/util/error.hpp"
 #include "path_checks.hpp"
 #include "test_support.hpp"
 
@@ -56,7 +56,8 @@ void check_resume_everywhere(const Mesh& mesh, const JobSpec& job, int stride) {
 // `checkpointed` (-1: none, it starts over), once with the journal of the generations
 // between (what on_trial_energies reported) and once without: both bit-identical to the
 // uninterrupted run. Returns the vertices the two resumes' marches made final (with, without).
-std::pair<uint64_t, uint64_t> resume_with_journal(const Mesh& mesh, JobSpec job, int checkpointed, int killed) {
+std::pair<uint64_t, uint64_t> resume_with_journal(const Mesh& mesh, JobSpec job, int checkpointed,
+                                                  int killed) {
   // Every generation's report carries the best path: the resumed run's must match (the
   // best of a replayed generation is decoded, not taken from an earlier agent).
   job.path_every = 1;
@@ -70,7 +71,8 @@ std::pair<uint64_t, uint64_t> resume_with_journal(const Mesh& mesh, JobSpec job,
   };
   hooks.on_trial_energies = [&](int generation, std::span<const double> energies) {
     EXPECT_EQ(static_cast<int>(energies.size()), job.de.population);
-    if (generation > checkpointed && generation <= killed) journal[generation].assign(energies.begin(), energies.end());
+    if (generation > checkpointed && generation <= killed)
+      journal[generation].assign(energies.begin(), energies.end());
   };
   hooks.on_progress = [&](const Progress& p) {
     ASSERT_NE(p.best_path, nullptr);
@@ -93,14 +95,15 @@ std::pair<uint64_t, uint64_t> resume_with_journal(const Mesh& mesh, JobSpec job,
       ++generations;
       ASSERT_NE(p.best_path, nullptr);
       EXPECT_EQ(path_positions(mesh, *p.best_path), best_paths[p.generation])
-          << "best path after generation " << p.generation << (with_journal ? " with" : " without") << " a journal";
+          << "best path after generation " << p.generation << (with_journal ? " with" : " without")
+          << " a journal";
     };
     const uint64_t before = FastMarching::vertices_made_final();
     const SolveResult resumed = solve(mesh, job, resume);
     (with_journal ? marched.first : marched.second) = FastMarching::vertices_made_final() - before;
     EXPECT_TRUE(test::identical_results(full, resumed))
-        << job.de.strategy << " resumed after generation " << checkpointed << (with_journal ? " with" : " without")
-        << " a journal to " << killed;
+        << job.de.strategy << " resumed after generation " << checkpointed
+        << (with_journal ? " with" : " without") << " a journal to " << killed;
     EXPECT_EQ(generations, job.de.generations - std::max(checkpointed, 0));
   }
   return marched;

@@ -515,7 +515,8 @@ bool JobStore::append_journal(const std::string& id, const std::string& owner, c
   SqlTransaction tx(*s, db_->dialect());
   if (s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty()) return false;
   s->exec(
-      "INSERT INTO trial_journal (job_id, first_generation, last_generation, energies) VALUES ($1, $2, $3, $4) "
+      "INSERT INTO trial_journal (job_id, first_generation, last_generation, energies) VALUES ($1, $2, $3, "
+      "$4) "
       "ON CONFLICT (job_id, first_generation) DO UPDATE SET last_generation = excluded.last_generation, "
       "energies = excluded.energies",
       {id, entry.first_generation, entry.last_generation, sql_blob(entry.energies)});

@@ -1078,13 +1078,15 @@ TEST(ServiceJobStore, ProgressHistoryIsThinnedAndWrittenByTheOwnerOnly) {
 // resumed run's) replacing the earlier; a checkpoint drops the entries it covers whole, the
 // finish the rest, and it survives a reopen of the file (a restart after kill -9).
 TEST(ServiceJobStore, JournalIsTheOwnersSinceTheCheckpointAndDroppedAtTheEnd) {
-  const auto dir = std::filesystem::temp_directory_path() / ("depath_journal_test_" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("depath_journal_test_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string uri = "sqlite:" + (dir / "depath.db").string();
   auto entry = [](int first, int last) {
     std::string bytes(16 * (last - first + 1), '\0');
-    for (size_t b = 0; b < bytes.size(); ++b) bytes[b] = static_cast<char>((first * 31 + b * 7) & 0xff);  // NULs too
+    for (size_t b = 0; b < bytes.size(); ++b)
+      bytes[b] = static_cast<char>((first * 31 + b * 7) & 0xff);  // NULs too
     return service::JournalEntry{first, last, bytes};
   };
   auto firsts = [](const std::vector<service::JournalEntry>& entries) {

@@ -253,40 +253,41 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
     strategy->load(st.strategy_memory);
     first_generation = st.generation + 1;
   } else {
-  // Initial population. Recorded energies (generation 0) stand in for all but the first
-  // lowest, which becomes the best (on_new_best).
-  const bool replay = hooks.recorded_energy && !hooks.on_agent_replaced;
-  std::vector<double> recorded(N, kInf);
-  std::vector<unsigned char> known(N, 0);
-  int first_lowest = -1;
-  if (replay) {
+    // Initial population. Recorded energies (generation 0) stand in for all but the first
+    // lowest, which becomes the best (on_new_best).
+    const bool replay = hooks.recorded_energy && !hooks.on_agent_replaced;
+    std::vector<double> recorded(N, kInf);
+    std::vector<unsigned char> known(N, 0);
+    int first_lowest = -1;
+    if (replay) {
+      for (int i = 0; i < N; ++i) {
+        known[i] = hooks.recorded_energy(0, i, recorded[i]);
+        if (!known[i]) continue;
+        if (std::isnan(recorded[i])) recorded[i] = kInf;
+        if (first_lowest < 0 || recorded[i] < recorded[first_lowest]) first_lowest = i;
+      }
+    }
+    pool.parallel_for(N, [&](int slot, int i) {
+      if (check_cancel()) return;
+      DeRandom rng(s.seed, 0, static_cast<uint64_t>(i));
+      initialize_agent(problem, s, seeded, i, rng, std::span<double>(agents[i], static_cast<size_t>(n)));
+      energies[i] = known[i] && i != first_lowest ? recorded[i] : evaluate(slot, i, agents[i]);
+      evaluated[i] = 1;
+    });
+    if (hooks.on_trials &&
+        std::all_of(evaluated.begin(), evaluated.end(), [](unsigned char d) { return d != 0; })) {
+      hooks.on_trials(0, energies);
+    }
     for (int i = 0; i < N; ++i) {
-      known[i] = hooks.recorded_energy(0, i, recorded[i]);
-      if (!known[i]) continue;
-      if (std::isnan(recorded[i])) recorded[i] = kInf;
-      if (first_lowest < 0 || recorded[i] < recorded[first_lowest]) first_lowest = i;
+      if (!evaluated[i]) continue;
+      ++result.evaluations;
+      if (hooks.on_agent_replaced) hooks.on_agent_replaced(i);
+      if (energies[i] < result.best_energy) {
+        result.best_energy = energies[i];
+        best = i;
+      }
     }
-  }
-  pool.parallel_for(N, [&](int slot, int i) {
-    if (check_cancel()) return;
-    DeRandom rng(s.seed, 0, static_cast<uint64_t>(i));
-    initialize_agent(problem, s, seeded, i, rng, std::span<double>(agents[i], static_cast<size_t>(n)));
-    energies[i] = known[i] && i != first_lowest ? recorded[i] : evaluate(slot, i, agents[i]);
-    evaluated[i] = 1;
-  });
-  if (hooks.on_trials && std::all_of(evaluated.begin(), evaluated.end(), [](unsigned char d) { return d != 0; })) {
-    hooks.on_trials(0, energies);
-  }
-  for (int i = 0; i < N; ++i) {
-    if (!evaluated[i]) continue;
-    ++result.evaluations;
-    if (hooks.on_agent_replaced) hooks.on_agent_replaced(i);
-    if (energies[i] < result.best_energy) {
-      result.best_energy = energies[i];
-      best = i;
-    }
-  }
-  if (best >= 0 && hooks.on_new_best) hooks.on_new_best(best);
+    if (best >= 0 && hooks.on_new_best) hooks.on_new_best(best);
   }
 
   for (int g = first_generation; g <= s.generations; ++g) {
@@ -339,7 +340,8 @@ DeResult run_differential_evolution(const DeProblem& problem, const DeSettings& 
       }
       trial_done[i] = 1;
     });
-    if (hooks.on_trials && std::all_of(trial_done.begin(), trial_done.end(), [](unsigned char d) { return d != 0; })) {
+    if (hooks.on_trials &&
+        std::all_of(trial_done.begin(), trial_done.end(), [](unsigned char d) { return d != 0; })) {
       hooks.on_trials(g, trial_energies);
     }
 

@@ -33,6 +33,9 @@ constexpr double kLocalProgressSeconds = 1.0;
 // The journal of trial energies is stored at most this often: a crash then costs a resume
 // the decodes of this long at most, instead of everything since the last checkpoint.
 constexpr double kJournalSeconds = 0.1;
+// Unstored journal kept while the store lags behind, at most: past it the oldest generations
+// are dropped (a crash then decodes them again).
+constexpr size_t kJournalMaxBytes = size_t{16} << 20;
 
 // Trial energies as the journal stores them: IEEE doubles, little-endian, generation after
 // generation.
@@ -643,8 +646,9 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   JournalEntry journal_unstored;  // generations not handed to a write yet
   auto last_journal = std::chrono::steady_clock::now();
   std::future<void> journal_writing;
-  if (checkpoints) {
+  if (checkpoints && !spec.refine) {  // a refined run decodes every accepted trial: no use for one
     hooks.on_trial_energies = [&](int generation, std::span<const double> energies) {
+      if (journal_unstored.energies.size() > kJournalMaxBytes) journal_unstored = {};
       if (journal_unstored.energies.empty()) journal_unstored.first_generation = generation;
       journal_unstored.last_generation = generation;
       append_energies(journal_unstored.energies, energies);

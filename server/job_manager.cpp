@@ -593,6 +593,7 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   SolveHooks hooks;
   hooks.pool = &pool_;
   hooks.resume_from = std::move(checkpoint);
+  const int replayed_through = journal.empty() ? -1 : journal.rbegin()->first;
   hooks.recorded_trial_energies = std::move(journal);
   hooks.is_cancelled = [r = &run] { return r->cancel.load(std::memory_order_relaxed); };
   hooks.suspend = [r = &run] { return r->suspend.load(std::memory_order_relaxed); };
@@ -684,6 +685,12 @@ void JobManager::execute(Running& run, const JobRecord& job) {
   auto count_progress = [&](const Progress& p) {
     if (!metrics_) return;
     const auto now = std::chrono::steady_clock::now();
+    if (p.generation <= replayed_through) {  // its evaluations came from the journal: none ran here
+      counted_evaluations = p.evaluations;
+      counted_generation = p.generation;
+      last_report = now;
+      return;
+    }
     if (counted_evaluations == 0 && resumed_generation >= 0) counted_evaluations = p.evaluations;  // counted before
     const int64_t evaluations = p.evaluations - counted_evaluations;
     const int generations = std::max(0, p.generation - counted_generation);

@@ -917,6 +917,17 @@ TEST(ServiceMeshStore, ParseBudgetStopsAParseWithResourceExhausted) {
   EXPECT_EQ(roomy.add(std::string(64, 'b'), "small.obj", "obj", grid_obj(3)).num_vertices(), 9);
 }
 
+// Stores a queued job `id` (mesh "m") and claims it for "owner", as a runner would.
+void insert_and_claim(service::JobStore& store, const std::string& id) {
+  service::JobRecord record;
+  record.id = id;
+  record.mesh_id = "m";
+  v1::JobEvent queued;
+  queued.mutable_state()->set_state(v1::JOB_STATE_QUEUED);
+  store.insert_job(record, queued);
+  ASSERT_TRUE(store.claim("owner", 1.0, 600));
+}
+
 // A finished job keeps only what its result needs: the per-vertex arrays of its spec
 // (densities, field vectors) are dropped when it ends, whether it finished or was cancelled
 // while queued, so retention does not scale with the size of what jobs carried.
@@ -986,13 +997,7 @@ TEST(ServiceJobStore, AResultIsStoredOnceAndReadBackWhole) {
   done.mutable_state()->set_state(v1::JOB_STATE_SUCCEEDED);
   {
     const auto store = service::JobStore::open("sqlite:" + path);
-    service::JobRecord record;
-    record.id = "job-r";
-    record.mesh_id = "m";
-    v1::JobEvent queued;
-    queued.mutable_state()->set_state(v1::JOB_STATE_QUEUED);
-    store->insert_job(record, queued);
-    ASSERT_TRUE(store->claim("owner", 1.0, 600));
+    insert_and_claim(*store, "job-r");
     ASSERT_TRUE(store->finish("job-r", "owner", &result, {result_event, done}));
     const auto events = store->events_after("job-r", 1);
     ASSERT_EQ(events.size(), 2u);
@@ -1023,13 +1028,7 @@ TEST(ServiceJobStore, ProgressHistoryIsThinnedAndWrittenByTheOwnerOnly) {
   EXPECT_EQ(service::progress_history_stride(1000), 2);
   EXPECT_EQ(service::progress_history_stride(2500), 4);
   const auto store = service::JobStore::open("memory");
-  v1::JobEvent queued;
-  queued.mutable_state()->set_state(v1::JOB_STATE_QUEUED);
-  service::JobRecord record;
-  record.id = "job-h";
-  record.mesh_id = "m";
-  store->insert_job(record, queued);
-  ASSERT_TRUE(store->claim("owner", 1.0, 600));
+  insert_and_claim(*store, "job-h");
   auto point = [](int g) { return service::ProgressPoint{g, 100.0 - g * 0.01, 200.0 - g * 0.01}; };
   auto progress = [](int g, uint64_t seq) {
     v1::JobEvent e;
@@ -1096,13 +1095,7 @@ TEST(ServiceJobStore, JournalIsTheOwnersSinceTheCheckpointAndDroppedAtTheEnd) {
   };
   {
     const auto store = service::JobStore::open(uri);
-    v1::JobEvent queued;
-    queued.mutable_state()->set_state(v1::JOB_STATE_QUEUED);
-    service::JobRecord record;
-    record.id = "job-j";
-    record.mesh_id = "m";
-    store->insert_job(record, queued);
-    ASSERT_TRUE(store->claim("owner", 1.0, 600));
+    insert_and_claim(*store, "job-j");
     ASSERT_TRUE(store->append_journal("job-j", "owner", entry(0, 3)));
     ASSERT_TRUE(store->append_journal("job-j", "owner", entry(4, 4)));
     ASSERT_TRUE(store->append_journal("job-j", "owner", entry(5, 6)));

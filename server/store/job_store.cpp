@@ -494,34 +494,38 @@ JobStore::Append JobStore::append_event(const std::string& id, const std::string
   return Append::stored;
 }
 
-bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, int generation,
-                              const std::string& bytes, const std::vector<ProgressPoint>& history) {
+bool JobStore::write_as_owner(const std::string& id, const std::string& owner,
+                              const std::function<void(SqlSession&)>& write) {
   auto s = db_->session();
   SqlTransaction tx(*s, db_->dialect());
   if (s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty()) return false;
-  s->exec(
-      "INSERT INTO checkpoints (job_id, generation, saved, body) VALUES ($1, $2, $3, $4) "
-      "ON CONFLICT (job_id) DO UPDATE SET generation = excluded.generation, saved = excluded.saved, "
-      "body = excluded.body",
-      {id, generation, now_unix(), sql_blob(bytes)});
-  s->exec("DELETE FROM trial_journal WHERE job_id = $1 AND last_generation <= $2", {id, generation});
-  add_history(*s, id, history);
+  write(*s);
   tx.commit();
   return true;
 }
 
+bool JobStore::put_checkpoint(const std::string& id, const std::string& owner, int generation,
+                              const std::string& bytes, const std::vector<ProgressPoint>& history) {
+  return write_as_owner(id, owner, [&](SqlSession& s) {
+    s.exec(
+        "INSERT INTO checkpoints (job_id, generation, saved, body) VALUES ($1, $2, $3, $4) "
+        "ON CONFLICT (job_id) DO UPDATE SET generation = excluded.generation, saved = excluded.saved, "
+        "body = excluded.body",
+        {id, generation, now_unix(), sql_blob(bytes)});
+    s.exec("DELETE FROM trial_journal WHERE job_id = $1 AND last_generation <= $2", {id, generation});
+    add_history(s, id, history);
+  });
+}
+
 bool JobStore::append_journal(const std::string& id, const std::string& owner, const JournalEntry& entry) {
-  auto s = db_->session();
-  SqlTransaction tx(*s, db_->dialect());
-  if (s->exec("SELECT 1 FROM jobs WHERE id = $1 AND owner = $2", {id, owner}).rows.empty()) return false;
-  s->exec(
-      "INSERT INTO trial_journal (job_id, first_generation, last_generation, energies) VALUES ($1, $2, $3, "
-      "$4) "
-      "ON CONFLICT (job_id, first_generation) DO UPDATE SET last_generation = excluded.last_generation, "
-      "energies = excluded.energies",
-      {id, entry.first_generation, entry.last_generation, sql_blob(entry.energies)});
-  tx.commit();
-  return true;
+  return write_as_owner(id, owner, [&](SqlSession& s) {
+    s.exec(
+        "INSERT INTO trial_journal (job_id, first_generation, last_generation, energies) "
+        "VALUES ($1, $2, $3, $4) "
+        "ON CONFLICT (job_id, first_generation) DO UPDATE SET last_generation = excluded.last_generation, "
+        "energies = excluded.energies",
+        {id, entry.first_generation, entry.last_generation, sql_blob(entry.energies)});
+  });
 }
 
 std::vector<JournalEntry> JobStore::journal_after(const std::string& id, int generation) {

@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -188,6 +189,10 @@ class JobStore {
   void migrate();
   std::optional<JobRecord> get_job_in(SqlSession& s, const std::string& id, bool for_update);
   void add_history(SqlSession& s, const std::string& id, std::vector<ProgressPoint> points);
+  // Runs `write` in one transaction while `owner` holds job `id`; false (nothing written)
+  // once the job is another owner's or gone.
+  bool write_as_owner(const std::string& id, const std::string& owner,
+                      const std::function<void(SqlSession&)>& write);
 
   std::unique_ptr<SqlDatabase> db_;
   std::string description_;

@@ -10,11 +10,13 @@
 // (guide_paths).
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include "depath/energy/energy.hpp"
 #include "depath/mesh/mesh.hpp"
 #include "depath/mesh/surface_path.hpp"
-
-#include <vector>
+#include "mesh/vertex_cubes.hpp"
 
 namespace depath {
 
@@ -22,8 +24,10 @@ namespace depath {
 /// lengths of a traced curve up to one of its close approaches to the target (up to 3 per
 /// curve: a curve may pass near the target on another branch first), 1 elsewhere, the
 /// closest approach first. Empty if the energy prefers no direction at the
-/// source (geodesic energies). Deterministic; cost O(V x curve points) per candidate.
-std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target);
+/// source (geodesic energies). Deterministic; cost O(V) per candidate plus, per curve, the
+/// vertices near its chords (first_close_chord).
+std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source,
+                                                 int target);
 
 /// Guide paths, as surface paths for the refinement to start from: from each end, the
 /// traced curves (integrated inside every face, chords between their edge crossings) cut
@@ -34,5 +38,12 @@ std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy&
 /// down to the curve's own (the integrand |angle| is kinked at 0); these start on it.
 /// Deterministic; cost O(curve points) per traced direction.
 std::vector<SurfacePath> guide_paths(const Mesh& mesh, const Energy& energy, int source, int target);
+
+/// The channels' building block: per vertex, the first chord (points[i - 1], points[i]),
+/// 1 <= i <= last, passing within `width` of it (3D distance), INT_MAX for none; a channel
+/// ending at point i holds the vertices whose first chord is i or earlier. `cubes` buckets
+/// the mesh's vertices (any side); only the vertices near each chord are tested.
+std::vector<int> first_close_chord(const Mesh& mesh, const VertexCubes& cubes, std::span<const Vec3> points,
+                                   int last, double width);
 
 }  // namespace depath

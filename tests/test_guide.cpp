@@ -2,6 +2,12 @@
 // The guide channels' geometry (solve/methods/guide.hpp): the vertices near a traced curve,
 // found through VertexCubes, against testing every vertex against every chord, on seeded
 // random curves over flat, peaked, conical and scanned meshes.
+#include "mesh/vertex_cubes.hpp"
+#include "solve/methods/guide.hpp"
+#include "depath/generators/surfaces.hpp"
+#include "depath/io/mesh_reader.hpp"
+#include "test_support.hpp"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,12 +16,6 @@
 #include <random>
 #include <string>
 #include <vector>
-
-#include "depath/generators/surfaces.hpp"
-#include "depath/io/mesh_reader.hpp"
-#include "mesh/vertex_cubes.hpp"
-#include "solve/methods/guide.hpp"
-#include "test_support.hpp"
 
 namespace depath {
 namespace {

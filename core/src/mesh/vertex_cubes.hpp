@@ -8,11 +8,11 @@
 // a sort of the vertices.
 #pragma once
 
+#include "depath/mesh/mesh.hpp"
+
 #include <algorithm>
 #include <cstdint>
 #include <vector>
-
-#include "depath/mesh/mesh.hpp"
 
 namespace depath {
 

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "solve/methods/guide.hpp"
 
+#include "depath/mesh/tangent_fields.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
-
-#include "depath/mesh/tangent_fields.hpp"
 
 namespace depath {
 namespace {
@@ -125,8 +125,7 @@ Trace trace_curve(const Mesh& mesh, const Energy& energy, int source, const Vec3
     // the first edge it meets.
     for (int sub = 0; sub < 4096 && exit < 0; ++sub) {
       double k1x, k1y, k2x, k2y, k3x, k3y, k4x, k4y;
-      if (!dir(px, py, ox, oy, k1x, k1y) ||
-          !dir(px + 0.5 * h * k1x, py + 0.5 * h * k1y, k1x, k1y, k2x, k2y) ||
+      if (!dir(px, py, ox, oy, k1x, k1y) || !dir(px + 0.5 * h * k1x, py + 0.5 * h * k1y, k1x, k1y, k2x, k2y) ||
           !dir(px + 0.5 * h * k2x, py + 0.5 * h * k2y, k1x, k1y, k3x, k3y) ||
           !dir(px + h * k3x, py + h * k3y, k1x, k1y, k4x, k4y)) {
         stuck = true;
@@ -222,8 +221,7 @@ std::vector<int> first_close_chord(const Mesh& mesh, const VertexCubes& cubes, s
   return first;
 }
 
-std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source,
-                                                 int target) {
+std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target) {
   const std::vector<Vec3> initial = initial_directions(mesh, energy, source);
   const Vec3 t = mesh.position(target);
   const double edge = mesh.mean_edge_length();
@@ -244,20 +242,17 @@ std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy&
       const double di = (trace.points[i] - t).norm();
       if (di > kNear * edge) continue;
       const bool left = (trace.points[i - 1] - t).norm() >= di;
-      const bool right =
-          i + 1 == static_cast<int>(trace.points.size()) || (trace.points[i + 1] - t).norm() >= di;
+      const bool right = i + 1 == static_cast<int>(trace.points.size()) || (trace.points[i + 1] - t).norm() >= di;
       if (left && right) mine.push_back({static_cast<int>(traces.size()), i, di});
     }
-    if (mine.empty())
-      mine.push_back({static_cast<int>(traces.size()), trace.closest, trace.closest_distance});
+    if (mine.empty()) mine.push_back({static_cast<int>(traces.size()), trace.closest, trace.closest_distance});
     std::sort(mine.begin(), mine.end(), [](const Cut& a, const Cut& b) { return a.distance < b.distance; });
     if (mine.size() > kCutsPerTrace) mine.resize(kCutsPerTrace);
     cuts.insert(cuts.end(), mine.begin(), mine.end());
     traces.push_back(std::move(trace));
   }
   // The closest approach of all first (the caller's seed).
-  std::stable_sort(cuts.begin(), cuts.end(),
-                   [](const Cut& a, const Cut& b) { return a.distance < b.distance; });
+  std::stable_sort(cuts.begin(), cuts.end(), [](const Cut& a, const Cut& b) { return a.distance < b.distance; });
   std::vector<std::vector<double>> channels;
   const double width = kChannelWidth * edge;
   const VertexCubes cubes(mesh, width);
@@ -268,8 +263,7 @@ std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy&
   for (const Cut& cut : cuts) {
     if (cut.point < 1) continue;
     std::vector<int>& first = first_chord[cut.trace];
-    if (first.empty())
-      first = first_close_chord(mesh, cubes, traces[cut.trace].points, reach[cut.trace], width);
+    if (first.empty()) first = first_close_chord(mesh, cubes, traces[cut.trace].points, reach[cut.trace], width);
     std::vector<double> density(mesh.num_vertices(), 1.0);
     for (int v = 0; v < mesh.num_vertices(); ++v) {
       if (first[v] <= cut.point) density[v] = kChannelDensity;
@@ -297,8 +291,7 @@ std::vector<SurfacePath> guide_paths(const Mesh& mesh, const Energy& energy, int
       for (int i = 1; i < static_cast<int>(trace.surface.size()); ++i) {
         prefix += energy.segment_energy(trace.surface[i - 1], trace.surface[i], trace.faces[i - 1]);
         if (!(prefix < best_energy)) break;
-        for (const int f :
-             {trace.faces[i - 1], i < static_cast<int>(trace.faces.size()) ? trace.faces[i] : -1}) {
+        for (const int f : {trace.faces[i - 1], i < static_cast<int>(trace.faces.size()) ? trace.faces[i] : -1}) {
           if (!face_has(mesh, f, b)) continue;
           const double e = prefix + energy.segment_energy(trace.surface[i], end, f);
           if (!(e < best_energy)) continue;

@@ -10,13 +10,13 @@
 // (guide_paths).
 #pragma once
 
-#include <span>
-#include <vector>
-
 #include "depath/energy/energy.hpp"
 #include "depath/mesh/mesh.hpp"
 #include "depath/mesh/surface_path.hpp"
 #include "mesh/vertex_cubes.hpp"
+
+#include <span>
+#include <vector>
 
 namespace depath {
 
@@ -26,8 +26,7 @@ namespace depath {
 /// closest approach first. Empty if the energy prefers no direction at the
 /// source (geodesic energies). Deterministic; cost O(V) per candidate plus, per curve, the
 /// vertices near its chords (first_close_chord).
-std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source,
-                                                 int target);
+std::vector<std::vector<double>> guide_densities(const Mesh& mesh, const Energy& energy, int source, int target);
 
 /// Guide paths, as surface paths for the refinement to start from: from each end, the
 /// traced curves (integrated inside every face, chords between their edge crossings) cut

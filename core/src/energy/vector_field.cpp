@@ -99,7 +99,7 @@ double VectorFieldEnergy::segment_energy(const SurfacePoint& a, const SurfacePoi
       const double s = kNodes[q];
       const Vec3 w = (1.0 - s) * wa + s * wb;
       if (w.squaredNorm() <= zero_norm2_) continue;
-      mean_angle += kWeights[q] * std::atan2(seg.cross(w).norm(), std::abs(seg.dot(w)));
+      mean_angle += kWeights[q] * first_quadrant_atan2(seg.cross(w).norm(), std::abs(seg.dot(w)));
     }
   }
   return length * mean_angle;
